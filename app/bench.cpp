@@ -1,0 +1,141 @@
+#include "bench.h"
+
+#include "../backends/stage_timer.h"
+#include "../core/renderer.h"
+#include "../models/procedural.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+
+namespace rast {
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct BenchRow {
+  std::string scene, method, backend;
+  int width, height, frames;
+  std::vector<std::pair<std::string, double>> stageMedianMs;
+  double totalMedianMs, totalMinMs;
+  FrameStats stats;
+};
+
+BenchRow benchOne(Renderer& r, const Camera& cam, const RenderSettings& rs, const BenchOptions& bo,
+                  const std::string& sceneName) {
+  // Warm-up frames grow every buffer to what this scene and view need.
+  for (int i = 0; i < std::max(bo.warmup, 1); ++i) r.render(cam, rs);
+  StageTimer timer;
+  std::map<std::string, std::vector<double>> perStage;
+  std::vector<std::string> order;
+  std::vector<double> totals;
+  for (int i = 0; i < bo.frames; ++i) {
+    r.enqueue(cam, rs, &timer);
+    double total = 0.0;
+    for (const auto& [name, ms] : timer.finish()) {
+      if (!perStage.count(name)) order.push_back(name);
+      perStage[name].push_back(ms);
+      total += ms;
+    }
+    totals.push_back(total);
+  }
+  BenchRow row;
+  if (!r.lastFrameFit(&row.stats)) throw Error("internal: buffers overflowed during timed frames");
+  row.scene = sceneName;
+  row.method = toString(row.stats.method);
+  row.backend = Exec::name();
+  row.width = rs.width;
+  row.height = rs.height;
+  row.frames = bo.frames;
+  for (const auto& n : order) row.stageMedianMs.emplace_back(n, median(perStage[n]));
+  row.totalMedianMs = median(totals);
+  row.totalMinMs = totals.empty() ? 0.0 : *std::min_element(totals.begin(), totals.end());
+  return row;
+}
+
+std::string jsonRow(const BenchRow& b) {
+  char buf[512];
+  std::string s = "{\"scene\": \"" + b.scene + "\", \"method\": \"" + b.method + "\", \"backend\": \"" + b.backend + "\"";
+  std::snprintf(buf, sizeof buf,
+                ", \"width\": %d, \"height\": %d, \"frames\": %d, \"total_median_ms\": %.6f, \"total_min_ms\": %.6f"
+                ", \"triangles_in\": %u, \"triangles_raster\": %u, \"raster_work_items\": %u"
+                ", \"device_bytes\": %zu, \"minimum_bytes\": %zu, \"stages_median_ms\": {",
+                b.width, b.height, b.frames, b.totalMedianMs, b.totalMinMs, b.stats.trianglesIn, b.stats.rasterTris,
+                b.stats.rasterWork, b.stats.deviceBytes, b.stats.minimumBytes);
+  s += buf;
+  for (size_t i = 0; i < b.stageMedianMs.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s\"%s\": %.6f", i ? ", " : "", b.stageMedianMs[i].first.c_str(), b.stageMedianMs[i].second);
+    s += buf;
+  }
+  return s + "}}";
+}
+
+}  // namespace
+
+void BenchOptions::addTo(CLI::App& app) {
+  app.add_option("--frames", frames, "timed frames (median reported)")->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--warmup", warmup, "untimed frames first")->capture_default_str()->check(CLI::Range(0, 1000000));
+  app.add_option("--json", json, "write the rows as a JSON array to this file");
+  app.add_option("--csv", csv, "write the rows as CSV to this file");
+  app.add_flag("--all-methods", allMethods, "bench every raster method (overrides --raster)");
+}
+
+int runBench(const SceneOptions& so, const BenchOptions& bo) {
+  RenderSettings rs = so.settings();
+  const Scene scene = loadSceneArg(so.scene);
+  const Camera cam = so.camera(scene);
+  const std::string sceneName = so.scene.empty() ? "builtin:default" : so.scene;
+  std::printf("rast: bench %s at %dx%d on %s, camera %s\n", sceneName.c_str(), rs.width, rs.height, Exec::name(),
+              cam.flags().c_str());
+  Renderer r(scene);
+  std::vector<RasterMethod> methods = bo.allMethods ? allRasterMethods() : std::vector<RasterMethod>{rs.raster};
+  std::vector<BenchRow> rows;
+  for (RasterMethod m : methods) {
+    rs.raster = m;
+    rows.push_back(benchOne(r, cam, rs, bo, sceneName));
+  }
+
+  std::printf("%-10s", "method");
+  for (const auto& s : rows[0].stageMedianMs) std::printf(" %10s", s.first.c_str());
+  std::printf(" %10s %10s %12s %12s\n", "total", "min", "tris_raster", "device_MiB");
+  for (const BenchRow& b : rows) {
+    std::printf("%-10s", b.method.c_str());
+    for (const auto& s : b.stageMedianMs) std::printf(" %10.3f", s.second);
+    std::printf(" %10.3f %10.3f %12u %12.1f\n", b.totalMedianMs, b.totalMinMs, b.stats.rasterTris,
+                b.stats.deviceBytes / 1048576.0);
+  }
+  std::printf("(milliseconds, median of %d frames after %d warm-up; minimum needed %.1f MiB)\n", bo.frames, bo.warmup,
+              rows[0].stats.minimumBytes / 1048576.0);
+
+  if (!bo.json.empty()) {
+    std::ofstream f(bo.json);
+    if (!f) throw Error("cannot write '" + bo.json + "'");
+    f << "[\n";
+    for (size_t i = 0; i < rows.size(); ++i) f << "  " << jsonRow(rows[i]) << (i + 1 < rows.size() ? ",\n" : "\n");
+    f << "]\n";
+  }
+  if (!bo.csv.empty()) {
+    std::ofstream f(bo.csv);
+    if (!f) throw Error("cannot write '" + bo.csv + "'");
+    f << "scene,method,backend,width,height,frames,total_median_ms,total_min_ms,triangles_in,triangles_raster,"
+         "raster_work_items,device_bytes,minimum_bytes";
+    for (const auto& s : rows[0].stageMedianMs) f << "," << s.first << "_median_ms";
+    f << "\n";
+    for (const BenchRow& b : rows) {
+      f << b.scene << "," << b.method << "," << b.backend << "," << b.width << "," << b.height << "," << b.frames << ","
+        << b.totalMedianMs << "," << b.totalMinMs << "," << b.stats.trianglesIn << "," << b.stats.rasterTris << ","
+        << b.stats.rasterWork << "," << b.stats.deviceBytes << "," << b.stats.minimumBytes;
+      for (const auto& s : b.stageMedianMs) f << "," << s.second;
+      f << "\n";
+    }
+  }
+  return 0;
+}
+
+}  // namespace rast

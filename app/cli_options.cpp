@@ -1,0 +1,92 @@
+#include "cli_options.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace rast {
+namespace {
+
+std::vector<double> parseNumbers(const std::string& s, const char* what, size_t minN, size_t maxN) {
+  std::vector<double> v;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const double d = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(d))
+      throw Error(std::string("--") + what + ": '" + s + "' is not a list of finite numbers");
+    v.push_back(d);
+  }
+  if (v.size() < minN || v.size() > maxN)
+    throw Error(std::string("--") + what + ": expected " + std::to_string(minN) +
+                (maxN > minN ? " to " + std::to_string(maxN) : std::string()) + " comma-separated numbers, got '" + s + "'");
+  return v;
+}
+
+glm::dvec3 parseVec3(const std::string& s, const char* what) {
+  const auto v = parseNumbers(s, what, 3, 3);
+  return {v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+void SceneOptions::addTo(CLI::App& app) {
+  app.add_option("scene", scene, "glTF 2.0 file (.gltf/.glb) or builtin:<name>; default: the embedded scene");
+  app.add_option("--size", size, "image size WxH")->capture_default_str();
+  app.add_option("--eye", eye, "camera position x,y,z (default: frame the scene)");
+  app.add_option("--target", target, "point looked at x,y,z");
+  app.add_option("--up", up, "up vector x,y,z");
+  app.add_option("--fovy", fovy, "vertical field of view, degrees")->capture_default_str();
+  app.add_option("--near", znear, "near plane distance");
+  app.add_option("--far", zfar, "far plane distance");
+  app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
+  app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth")->capture_default_str();
+  app.add_option("--filter", filter, "texture filter: nearest|bilinear")->capture_default_str();
+  app.add_option("--raster", raster, "raster method: auto|naive|visbuffer")->capture_default_str();
+  app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
+  app.add_option("--background", background, "background colour r,g,b in [0,1], linear")->capture_default_str();
+}
+
+RenderSettings SceneOptions::settings() const {
+  RenderSettings rs;
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    throw Error("--size: expected WxH, got '" + size + "'");
+  rs.width = w;
+  rs.height = h;
+  if (w < 1 || h < 1 || w > 16384 || h > 16384)
+    throw Error("--size: " + size + " is outside 1..16384 per side");
+  rs.cull = parseCull(cull);
+  rs.shading = parseShading(shading);
+  rs.filter = parseFilter(filter);
+  rs.raster = parseRaster(raster);
+  for (const std::string& l : lights) {
+    const auto v = parseNumbers(l, "light", 3, 4);
+    DirectionalLight d;
+    d.direction = float3{float(v[0]), float(v[1]), float(v[2])};
+    if (!(dot(d.direction, d.direction) > 0.0f)) throw Error("--light: direction must not be zero");
+    d.intensity = v.size() == 4 ? float(v[3]) : 0.85f;
+    rs.lights.push_back(d);
+  }
+  const auto bg = parseNumbers(background, "background", 3, 4);
+  rs.background = float4{float(bg[0]), float(bg[1]), float(bg[2]), 1.0f};
+  return rs;
+}
+
+Camera SceneOptions::camera(const Scene& s) const {
+  Camera c = autoFrame(s, fovy);
+  if (!eye.empty()) c.eye = parseVec3(eye, "eye");
+  if (!target.empty()) c.target = parseVec3(target, "target");
+  if (!up.empty()) c.up = parseVec3(up, "up");
+  if (znear) c.znear = *znear;
+  if (zfar) c.zfar = *zfar;
+  if (!(fovy > 0.0 && fovy < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
+  if (!(c.znear > 0.0) || !(c.zfar > c.znear) || !std::isfinite(c.zfar))
+    throw Error("--near/--far: need 0 < near < far");
+  if (glm::length(c.eye - c.target) == 0.0) throw Error("--eye and --target must differ");
+  if (glm::length(glm::cross(c.target - c.eye, c.up)) == 0.0) throw Error("--up must not be parallel to the view direction");
+  return c;
+}
+
+}  // namespace rast

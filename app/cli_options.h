@@ -1,0 +1,32 @@
+// Command-line options shared by the rast subcommands (render, bench, and the
+// viewer): scene, image size, camera and render settings.
+#pragma once
+
+#include "../core/camera.h"
+#include "../core/render_settings.h"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+
+namespace rast {
+
+struct SceneOptions {
+  std::string scene;  // empty: the embedded default scene
+  std::string size = "1920x1080";
+  std::string eye, target, up;  // empty: auto-framing
+  double fovy = 45.0;
+  std::optional<double> znear, zfar;
+  std::string cull = "none", shading = "lambert", filter = "bilinear", raster = "auto";
+  std::vector<std::string> lights;
+  std::string background = "0,0,0";
+
+  void addTo(CLI::App& app);
+  // Builds settings and camera; throws Error for malformed values.
+  RenderSettings settings() const;
+  Camera camera(const Scene& scene) const;
+  bool cameraGiven() const { return !eye.empty() || !target.empty() || !up.empty(); }
+};
+
+}  // namespace rast

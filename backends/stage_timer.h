@@ -1,0 +1,34 @@
+// Per-stage timing of a frame. The only backend-specific piece of the timing:
+// on CUDA it records events on the execution stream (no host wait between
+// stages); elsewhere it fences and reads a host clock, which costs nothing
+// extra because host backends run kernels synchronously anyway.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rast {
+
+class StageTimer {
+ public:
+  StageTimer();
+  ~StageTimer();
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+  void start();                  // before the first stage of a frame
+  void mark(const char* stage);  // after a stage has been enqueued
+  // Waits for the frame and returns the milliseconds of each marked stage.
+  std::vector<std::pair<std::string, double>> finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Backend, Kokkos version and parallelism, one "key: value" per line.
+std::string deviceDescription();
+
+}  // namespace rast

@@ -1,0 +1,94 @@
+// Homogeneous clipping (Sutherland-Hodgman) of one triangle against the near
+// and far planes and a guard band around the viewport.
+//
+// Only the near/far planes change what is visible. The guard-band planes lie far
+// outside the viewport; they exist so that every vertex that reaches fixed-point
+// snapping fits its integer range (see raster_common.h), however large the
+// triangle. Triangles inside all planes (the common case) pass through untouched.
+#pragma once
+
+#include "vec.h"
+
+namespace rast {
+
+struct ClipVert {
+  float4 p;       // clip-space position
+  float b1, b2;   // barycentrics in the source triangle (b0 = 1 - b1 - b2)
+};
+
+// Six planes can add one vertex each to a triangle (9); the slack absorbs a
+// polygon made slightly non-convex by rounding, which can gain two per plane.
+constexpr int kMaxClipVerts = 16;
+
+// Signed distance to plane `k` (inside when >= 0). g is the guard band in
+// normalised device units: |x/w| <= gx, |y/w| <= gy.
+KOKKOS_INLINE_FUNCTION float planeDistance(int k, const float4& p, float gx, float gy) {
+  switch (k) {
+    case 0: return p.z + p.w;       // near: z >= -w
+    case 1: return p.w - p.z;       // far:  z <= w
+    case 2: return p.x + gx * p.w;  // guard band left
+    case 3: return gx * p.w - p.x;  // guard band right
+    case 4: return p.y + gy * p.w;  // guard band bottom
+    default: return gy * p.w - p.y; // guard band top
+  }
+}
+
+KOKKOS_INLINE_FUNCTION bool finite4(const float4& p) {
+  return isFinite(p.x) && isFinite(p.y) && isFinite(p.z) && isFinite(p.w);
+}
+
+// Clips the triangle in v[0..2] in place; returns the vertex count of the
+// resulting convex polygon (0 when nothing is left, 3 when untouched).
+//
+// Each intersection is computed from the edge's inside vertex towards its
+// outside vertex, whatever the edge's direction in this triangle. Two triangles
+// sharing an edge therefore get bit-identical new vertices, and the shared edge
+// stays watertight after clipping.
+KOKKOS_INLINE_FUNCTION int clipTriangle(ClipVert (&v)[kMaxClipVerts], float gx, float gy) {
+  if (!finite4(v[0].p) || !finite4(v[1].p) || !finite4(v[2].p)) return 0;
+  int outAll = 0x3f, outAny = 0;
+  for (int i = 0; i < 3; ++i) {
+    int code = 0;
+    for (int k = 0; k < 6; ++k)
+      if (planeDistance(k, v[i].p, gx, gy) < 0.0f) code |= 1 << k;
+    outAll &= code;
+    outAny |= code;
+  }
+  if (outAll) return 0;      // wholly outside one plane
+  if (!outAny) return 3;     // wholly inside: the common case
+
+  ClipVert tmp[kMaxClipVerts];
+  int n = 3;
+  for (int k = 0; k < 6; ++k) {
+    if (!(outAny & (1 << k))) continue;
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const ClipVert& a = v[i];
+      const ClipVert& b = v[(i + 1) % n];
+      const float da = planeDistance(k, a.p, gx, gy), db = planeDistance(k, b.p, gx, gy);
+      const bool ina = da >= 0.0f, inb = db >= 0.0f;
+      if (m + 2 > kMaxClipVerts) return 0;  // unreachable for convex input; never overflow
+      if (ina) tmp[m++] = a;
+      if (ina != inb) {
+        const ClipVert& in = ina ? a : b;
+        const ClipVert& out = ina ? b : a;
+        const float din = ina ? da : db, dout = ina ? db : da;
+        const float t = din / (din - dout);
+        ClipVert r;
+        r.p.x = in.p.x + t * (out.p.x - in.p.x);
+        r.p.y = in.p.y + t * (out.p.y - in.p.y);
+        r.p.z = in.p.z + t * (out.p.z - in.p.z);
+        r.p.w = in.p.w + t * (out.p.w - in.p.w);
+        r.b1 = in.b1 + t * (out.b1 - in.b1);
+        r.b2 = in.b2 + t * (out.b2 - in.b2);
+        tmp[m++] = r;
+      }
+    }
+    n = m;
+    for (int i = 0; i < n; ++i) v[i] = tmp[i];
+    if (n < 3) return 0;
+  }
+  return n;
+}
+
+}  // namespace rast

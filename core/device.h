@@ -1,0 +1,56 @@
+// Execution and memory spaces of the pipeline, chosen once at configure time.
+//
+// Every kernel of the renderer runs in rast::Exec and every device buffer lives
+// in rast::Mem. The CMake option RAST_EXEC_SPACE picks the space; a build can
+// compile the same sources twice (e.g. OpenMP and Serial) to compare backends.
+#pragma once
+
+#include <Kokkos_Core.hpp>
+#include <cstdint>
+
+namespace rast {
+
+#if defined(RAST_EXEC_SERIAL)
+using Exec = Kokkos::Serial;
+#elif defined(RAST_EXEC_OPENMP)
+using Exec = Kokkos::OpenMP;
+#elif defined(RAST_EXEC_CUDA)
+using Exec = Kokkos::Cuda;
+#elif defined(RAST_EXEC_HIP)
+using Exec = Kokkos::Experimental::HIP;
+#else
+using Exec = Kokkos::DefaultExecutionSpace;
+#endif
+
+using Mem = Exec::memory_space;
+
+// 1-D device buffer and its host mirror type.
+template <class T>
+using DView = Kokkos::View<T*, Mem>;
+
+using Range = Kokkos::RangePolicy<Exec>;
+
+// Allocate a device buffer without initialising it: every kernel that reads a
+// buffer first has it written by an earlier stage, so zero-filling would be
+// wasted bandwidth.
+template <class T>
+DView<T> allocUninit(const char* label, size_t n) {
+  return DView<T>(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
+}
+
+// Grow-only resize: keeps the allocation when it is already large enough so that
+// steady-state frames allocate nothing. Returns true when it reallocated.
+template <class T>
+bool ensureCapacity(DView<T>& v, const char* label, size_t n) {
+  if (v.extent(0) >= n && v.data() != nullptr) return false;
+  v = allocUninit<T>(label, n);
+  return true;
+}
+
+// Bytes held by a view (for the peak-memory report).
+template <class V>
+size_t viewBytes(const V& v) {
+  return v.span() * sizeof(typename V::value_type);
+}
+
+}  // namespace rast

@@ -1,0 +1,98 @@
+#include "device_scene.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <cmath>
+
+namespace rast {
+namespace {
+
+template <class T>
+DView<T> uploadVec(const char* label, const std::vector<T>& v) {
+  DView<T> d = allocUninit<T>(label, v.size());
+  if (!v.empty()) {
+    Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(), v.size());
+    Kokkos::deep_copy(d, h);
+  }
+  return d;
+}
+
+}  // namespace
+
+DeviceScene DeviceScene::upload(const Scene& s) {
+  s.validate();
+  DeviceScene d;
+  d.positions = uploadVec("scene.positions", s.positions);
+  d.normals = uploadVec("scene.normals", s.normals);
+  d.indices = uploadVec("scene.indices", s.indices);
+
+  // Only the attribute streams that some drawn primitive uses travel.
+  bool usesTexture = false;
+  for (const Material& m : s.materials) usesTexture |= m.texture >= 0;
+  d.hasUV = usesTexture && !s.uvs.empty();
+  d.hasColor = !s.colors.empty();
+  d.hasTextures = usesTexture;
+  if (d.hasUV) d.uvs = uploadVec("scene.uvs", s.uvs);
+  if (d.hasColor) d.colors = uploadVec("scene.colors", s.colors);
+
+  std::vector<DrawGPU> draws;
+  std::vector<uint32_t> triStart, vertStart;
+  uint64_t tri = 0, vert = 0;
+  for (const Draw& dr : s.draws) {
+    const MeshPrim& p = s.prims[dr.prim];
+    DrawGPU g{};
+    g.srcVertex = p.firstVertex;
+    g.vertexCount = p.vertexCount;
+    g.srcTri = p.firstTri;
+    g.triCount = p.triCount;
+    g.dstVertex = uint32_t(vert);
+    g.dstTri = uint32_t(tri);
+    g.material = p.material;
+    g.mirrored = glm::determinant(dr.model) < 0.0 ? 1 : 0;
+    for (int k = 0; k < 16; ++k) g.model.m[k] = (&dr.model[0][0])[k];
+    const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(dr.model));
+    for (int k = 0; k < 9; ++k) g.normalMatrix.m[k] = float((&nm[0][0])[k]);
+    triStart.push_back(g.dstTri);
+    vertStart.push_back(g.dstVertex);
+    draws.push_back(g);
+    tri += p.triCount;
+    vert += p.vertexCount;
+    if (tri >= 0xffffffffull || vert >= 0xffffffffull) throw Error("scene too large: more than 2^32 drawn triangles or vertices");
+  }
+  d.numDraws = uint32_t(draws.size());
+  d.numTris = uint32_t(tri);
+  d.numVerts = uint32_t(vert);
+  d.draws = uploadVec("scene.draws", draws);
+  d.drawTriStart = uploadVec("scene.drawTriStart", triStart);
+  d.drawVertStart = uploadVec("scene.drawVertStart", vertStart);
+
+  std::vector<MaterialGPU> mats;
+  for (const Material& m : s.materials) mats.push_back({m.baseColorFactor, m.texture});
+  d.materials = uploadVec("scene.materials", mats);
+
+  if (usesTexture) {
+    std::vector<TextureGPU> tex;
+    std::vector<uint32_t> texels;
+    for (const Texture& t : s.textures) {
+      tex.push_back({uint32_t(texels.size()), t.width, t.height, t.wrapS, t.wrapT});
+      texels.insert(texels.end(), t.rgba.begin(), t.rgba.end());
+    }
+    d.textures = uploadVec("scene.textures", tex);
+    d.texels = uploadVec("scene.texels", texels);
+  }
+  std::vector<float> lut(256);
+  for (int i = 0; i < 256; ++i) {
+    const double c = i / 255.0;
+    lut[i] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+  }
+  d.srgbToLinear = uploadVec("scene.srgbToLinear", lut);
+  return d;
+}
+
+size_t DeviceScene::bytes() const {
+  return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
+         viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(materials) +
+         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear);
+}
+
+}  // namespace rast

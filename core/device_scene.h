@@ -1,0 +1,42 @@
+// The scene uploaded to the device once, sized to what it uses: attribute
+// streams a scene does not have are not allocated.
+#pragma once
+
+#include "device.h"
+#include "gpu_types.h"
+#include "scene.h"
+
+namespace rast {
+
+struct DeviceScene {
+  DView<float3> positions;  // object space, per source vertex
+  DView<float3> normals;
+  DView<float2> uvs;      // empty when no material samples a texture
+  DView<float4> colors;   // empty when no primitive has COLOR_0
+  DView<uint32_t> indices;  // 3 per source triangle, relative to the primitive's first vertex
+  DView<DrawGPU> draws;
+  DView<uint32_t> drawTriStart;   // dstTri of each draw, for triangle -> draw lookup
+  DView<uint32_t> drawVertStart;  // dstVertex of each draw, for vertex -> draw lookup
+  DView<MaterialGPU> materials;
+  DView<TextureGPU> textures;
+  DView<uint32_t> texels;  // all textures, sRGB RGBA8
+  DView<float> srgbToLinear;  // 256-entry decode table
+
+  uint32_t numDraws = 0, numTris = 0, numVerts = 0;  // drawn counts
+  bool hasUV = false, hasColor = false, hasTextures = false;
+
+  static DeviceScene upload(const Scene& scene);
+  size_t bytes() const;
+};
+
+// Largest i with starts(i) <= key; starts is ascending with starts(0) == 0.
+KOKKOS_INLINE_FUNCTION uint32_t findRange(const DView<uint32_t>& starts, uint32_t n, uint32_t key) {
+  uint32_t lo = 0, hi = n;  // invariant: starts(lo) <= key < starts(hi) (hi == n: +inf)
+  while (hi - lo > 1) {
+    const uint32_t mid = lo + (hi - lo) / 2;
+    if (starts(mid) <= key) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+
+}  // namespace rast

@@ -1,0 +1,48 @@
+// Per-frame device buffers, reused across frames and grown (never capped) when a
+// frame needs more; and the entry points of the pipeline stages.
+#pragma once
+
+#include "device.h"
+#include "device_scene.h"
+#include "gpu_types.h"
+
+namespace rast {
+
+// Slots of FrameBuffers::counters, written on the device during a frame and
+// read back only after it (to grow buffers and report statistics).
+enum Counter : int {
+  kRasterTris = 0,  // raster triangles the setup produced (may exceed the capacity)
+  kRasterWork = 1,  // work items of the raster method (chunks, bin entries, ...)
+  kNumCounters = 4
+};
+
+struct FrameBuffers {
+  Viewport vp{0, 0};
+  DView<mat4f> mvp;          // per draw
+  DView<float4> clip;        // per drawn vertex
+  DView<float3> worldPos;    // per drawn vertex, only when shading needs it
+  DView<float3> worldNormal; // per drawn vertex, only when shading needs it
+  DView<uint32_t> triOffset; // per drawn triangle: raster triangles, then their exclusive prefix sum
+  DView<RasterTri> tris;     // raster triangles
+  DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work
+  DView<uint32_t> work;        // method-specific work list (bin entries)
+  DView<uint32_t> counters;
+  DView<uint64_t> vis;       // per pixel: depth and raster triangle (see visKey)
+  DView<uint32_t> color;     // per pixel: sRGB RGBA8
+  DView<float> depth;        // AOV, allocated on request
+  DView<uint32_t> primId;    // AOV, allocated on request
+  DView<float3> normal;      // AOV, allocated on request
+  Kokkos::View<Kokkos::MinMaxScalar<float>, Mem> depthRange;  // depth visualisation only
+
+  // Capacities chosen by the host; the device writes nothing past them and
+  // reports the sizes it needed in `counters`.
+  uint32_t triCapacity = 0, workCapacity = 0;
+
+  size_t bytes() const;
+};
+
+// Threads to launch for persistent (grid-stride) loops whose trip count is only
+// known on the device: enough to fill every core or multiprocessor.
+uint32_t persistentThreads();
+
+}  // namespace rast

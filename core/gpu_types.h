@@ -1,0 +1,47 @@
+// Plain structs shared by the pipeline stages on the device.
+#pragma once
+
+#include "vec.h"
+
+namespace rast {
+
+// One placed mesh primitive. Source ranges index the scene's object-space
+// streams (stored once per mesh primitive); destination ranges index the
+// per-frame streams (one entry per drawn vertex / triangle).
+struct DrawGPU {
+  uint32_t srcVertex, dstVertex, vertexCount;
+  uint32_t srcTri, dstTri, triCount;
+  int32_t material;  // -1: default material
+  int32_t mirrored;  // node transform has a negative determinant: front faces are clockwise
+  mat4d model;
+  mat3f normalMatrix;  // transpose(inverse(mat3(model)))
+};
+
+struct MaterialGPU {
+  float4 baseColor;  // linear
+  int32_t texture;   // -1: none
+};
+
+struct TextureGPU {
+  uint32_t offset;  // first texel in the shared texel buffer
+  int32_t width, height, wrapS, wrapT;
+};
+
+// A triangle ready for rasterisation: a clipped, culled, snapped piece of one
+// drawn triangle, counter-clockwise (positive area) in window space.
+struct RasterTri {
+  int32_t x[3], y[3];               // window position, fixed point with kSubBits fractional bits, y up
+  int32_t minX, minY, maxX, maxY;   // pixels whose centres the bounding box holds, clamped to the viewport
+  float z[3];                       // window depth
+  float invW[3];                    // 1 / clip w, for perspective-correct interpolation
+  float invArea;                    // 1 / (twice the fixed-point area)
+  uint32_t prim;                    // drawn triangle index (primitive id - 1)
+  float bary[3][2];                 // barycentrics (b1, b2) of each vertex in the drawn triangle
+};
+
+// Values that change per frame but not per element, passed by value to kernels.
+struct Viewport {
+  int32_t width, height;
+};
+
+}  // namespace rast

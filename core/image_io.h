@@ -1,0 +1,24 @@
+// Image files: PNG through stb_image_write, PFM for float AOVs, and glref's
+// binary primitive-id format so that ../shared/tools/glref/ids_tool.py reads ours.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rast {
+
+// rgba: R in the low byte, top row first.
+void writePng(const std::string& path, int w, int h, const std::vector<uint32_t>& rgba);
+// Greyscale (channels 1) or colour (3) PFM; data bottom row first, as PFM stores it.
+void writePfm(const std::string& path, int w, int h, int channels, const float* data);
+// "glref-ids W H u32le top-down\n" then W*H little-endian u32, top row first.
+// ids come bottom row first (as rendered) and are flipped here.
+void writeIdsBin(const std::string& path, int w, int h, const std::vector<uint32_t>& idsBottomUp);
+
+// Readers (tests and tools). Each returns data in its file's row order.
+std::vector<uint32_t> readIdsBin(const std::string& path, int& w, int& h);  // top row first
+std::vector<float> readPfm(const std::string& path, int& w, int& h, int& channels);  // bottom row first
+std::vector<uint32_t> readPng(const std::string& path, int& w, int& h);  // RGBA8, top row first
+
+}  // namespace rast

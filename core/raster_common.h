@@ -1,0 +1,144 @@
+// The exact rasterisation rules every raster method shares: fixed-point
+// snapping, integer edge functions, the top-left fill rule and the depth value.
+//
+// Window space is OpenGL's: y up, pixel (x, y) centred at (x + 0.5, y + 0.5).
+// Vertices are snapped to 1/256 pixel (kSubBits = 8). Edge functions are
+// evaluated exactly in 64-bit integers at pixel centres, so whether a pixel is
+// covered never depends on rounding, and two triangles sharing an edge neither
+// both cover nor both miss a pixel on it.
+#pragma once
+
+#include "clip.h"
+#include "gpu_types.h"
+
+namespace rast {
+
+constexpr int kSubBits = 8;
+constexpr int32_t kSubOne = 1 << kSubBits;      // one pixel in fixed point
+constexpr int32_t kSubHalf = kSubOne / 2;       // pixel centre offset
+// Snapped coordinates stay within +-2^15 pixels (2^23 in fixed point), so edge
+// function products stay below 2^48 and sums below 2^50: exact in int64.
+constexpr int32_t kMaxWindowCoord = 1 << 15;
+constexpr int32_t kMaxFramebufferSide = 16384;
+
+// Guard band in NDC units for a viewport side of `size` pixels, chosen so that
+// clipped vertices land inside +-kMaxWindowCoord pixels, with margin for rounding.
+inline float guardBand(int size) { return float(2 * (kMaxWindowCoord - 64)) / float(size) - 1.0f; }
+
+KOKKOS_INLINE_FUNCTION int32_t floorDiv(int32_t a, int32_t b) {  // b > 0
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+// Snaps a clip-space triangle to a RasterTri. Returns false when it is culled,
+// degenerate after snapping, or covers no pixel centre of the viewport.
+//   frontCCW: counter-clockwise triangles (in window space) face the viewer.
+KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, const ClipVert& c, const Viewport vp,
+                                          bool cullBack, bool frontCCW, uint32_t prim, RasterTri& t) {
+  const ClipVert* v[3] = {&a, &b, &c};
+  const float hw = 0.5f * float(vp.width), hh = 0.5f * float(vp.height);
+  for (int i = 0; i < 3; ++i) {
+    const float4 p = v[i]->p;
+    if (!(p.w > 0.0f)) return false;
+    const float iw = 1.0f / p.w;
+    const float nx = p.x / p.w, ny = p.y / p.w, nz = p.z / p.w;
+    const float wx = nx * hw + hw, wy = ny * hh + hh;
+    t.x[i] = int32_t(::floorf(wx * float(kSubOne) + 0.5f));
+    t.y[i] = int32_t(::floorf(wy * float(kSubOne) + 0.5f));
+    t.z[i] = nz * 0.5f + 0.5f;
+    t.invW[i] = iw;
+    t.bary[i][0] = v[i]->b1;
+    t.bary[i][1] = v[i]->b2;
+  }
+  const int64_t area = int64_t(t.x[1] - t.x[0]) * int64_t(t.y[2] - t.y[0]) -
+                       int64_t(t.x[2] - t.x[0]) * int64_t(t.y[1] - t.y[0]);
+  if (area == 0) return false;
+  const bool ccw = area > 0;
+  if (cullBack && ccw != frontCCW) return false;
+  if (!ccw) {  // make it counter-clockwise so "inside" means all edge functions positive
+    auto sw = [](auto& p, auto& q) { auto tmp = p; p = q; q = tmp; };
+    sw(t.x[1], t.x[2]); sw(t.y[1], t.y[2]); sw(t.z[1], t.z[2]); sw(t.invW[1], t.invW[2]);
+    sw(t.bary[1][0], t.bary[2][0]); sw(t.bary[1][1], t.bary[2][1]);
+  }
+  const int64_t area2 = ccw ? area : -area;
+  t.invArea = 1.0f / float(area2);
+  int32_t lx = t.x[0], hx = t.x[0], ly = t.y[0], hy = t.y[0];
+  for (int i = 1; i < 3; ++i) {
+    lx = t.x[i] < lx ? t.x[i] : lx; hx = t.x[i] > hx ? t.x[i] : hx;
+    ly = t.y[i] < ly ? t.y[i] : ly; hy = t.y[i] > hy ? t.y[i] : hy;
+  }
+  // Pixels whose centres x*256+128 lie inside [lx, hx].
+  t.minX = floorDiv(lx - kSubHalf + kSubOne - 1, kSubOne);
+  t.maxX = floorDiv(hx - kSubHalf, kSubOne);
+  t.minY = floorDiv(ly - kSubHalf + kSubOne - 1, kSubOne);
+  t.maxY = floorDiv(hy - kSubHalf, kSubOne);
+  t.minX = t.minX < 0 ? 0 : t.minX;
+  t.minY = t.minY < 0 ? 0 : t.minY;
+  t.maxX = t.maxX > vp.width - 1 ? vp.width - 1 : t.maxX;
+  t.maxY = t.maxY > vp.height - 1 ? vp.height - 1 : t.maxY;
+  t.prim = prim;
+  return t.minX <= t.maxX && t.minY <= t.maxY;
+}
+
+// Edge functions of a RasterTri as E_i(X, Y) = A_i * X + B_i * Y + C_i over
+// integer pixel coordinates, E_i > 0 inside. Edge i runs from vertex i to i+1;
+// E_0 is the weight of vertex 2, E_1 of vertex 0, E_2 of vertex 1.
+struct Edges {
+  int64_t A[3], B[3], C[3];
+
+  KOKKOS_INLINE_FUNCTION explicit Edges(const RasterTri& t) {
+    for (int i = 0; i < 3; ++i) {
+      const int j = i == 2 ? 0 : i + 1;
+      const int64_t dx = int64_t(t.x[j]) - t.x[i], dy = int64_t(t.y[j]) - t.y[i];
+      // E(px, py) = dx * (py - y_i) - dy * (px - x_i), sampled at px = 256 X + 128.
+      A[i] = -dy * kSubOne;
+      B[i] = dx * kSubOne;
+      C[i] = dx * (kSubHalf - int64_t(t.y[i])) - dy * (kSubHalf - int64_t(t.x[i]));
+      // Top-left rule (y up): a pixel centre exactly on an edge belongs to the
+      // triangle only for a left edge (going down) or a top edge (horizontal,
+      // going left). Folding it into C makes the test a plain "> 0".
+      const bool topLeft = dy < 0 || (dy == 0 && dx < 0);
+      if (topLeft) C[i] += 1;
+    }
+  }
+  KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const { return A[i] * X + B[i] * Y + C[i]; }
+};
+
+// Window depth at a covered pixel, from the exact edge values (bias included:
+// it shifts a weight by at most one part in 2^16 of a pixel's area).
+KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t e1, int64_t e2) {
+  const float l0 = float(e1) * t.invArea, l1 = float(e2) * t.invArea, l2 = float(e0) * t.invArea;
+  return clamp01(l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2]);
+}
+
+// The visibility key: depth in the high word (non-negative floats order like
+// their bits), raster triangle index + 1 in the low word. Taking the minimum
+// resolves the depth test (LESS) and breaks ties towards the earlier triangle,
+// as OpenGL's LESS does, independently of the order fragments arrive in.
+KOKKOS_INLINE_FUNCTION uint64_t visKey(float depth, uint32_t rasterIndex) {
+  return (uint64_t(floatBits(depth)) << 32) | uint64_t(rasterIndex + 1);
+}
+constexpr uint64_t kClearKey = uint64_t(0x3f800000u) << 32;  // depth 1.0, no triangle
+
+// Depth-tests raster triangle `index` against the visibility buffer over the
+// pixel rectangle [x0, x1] x [y0, y1] (inside the triangle's bounding box).
+// Edge values step incrementally along a row: exact, since they are integers.
+KOKKOS_INLINE_FUNCTION void rasterRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0, int32_t x1,
+                                       int32_t y0, int32_t y1, uint64_t* vis, int32_t width) {
+  for (int32_t y = y0; y <= y1; ++y) {
+    int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
+    uint64_t* row = vis + int64_t(y) * width;
+    for (int32_t x = x0; x <= x1; ++x) {
+      if (e0 > 0 && e1 > 0 && e2 > 0) {
+        const uint64_t key = visKey(depthAt(t, e0, e1, e2), index);
+        // The plain read only skips atomics that could not win; the atomic
+        // minimum alone decides, so the result is independent of ordering.
+        if (key < row[x]) Kokkos::atomic_fetch_min(&row[x], key);
+      }
+      e0 += e.A[0];
+      e1 += e.A[1];
+      e2 += e.A[2];
+    }
+  }
+}
+
+}  // namespace rast

@@ -1,0 +1,39 @@
+// The naive baseline: one work item per raster triangle walks its whole
+// bounding box. Kept on purpose as the reference point for the other methods:
+// it is fast for small triangles and collapses on large ones, where a single
+// thread walks millions of pixels while the others idle.
+#include "raster_common.h"
+#include "stages.h"
+
+namespace rast {
+namespace {
+
+struct NaiveRaster {
+  DView<RasterTri> tris;
+  DView<uint32_t> counters;
+  DView<uint64_t> vis;
+  int32_t width;
+  uint32_t capacity;
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i) const {
+    const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
+    if (i >= n) return;
+    const RasterTri& t = tris(i);
+    rasterRect(t, Edges(t), i, t.minX, t.maxX, t.minY, t.maxY, vis.data(), width);
+  }
+};
+
+}  // namespace
+
+void rasterNaive(FrameBuffers& f) {
+  // One work item per triangle slot; slots past the device-side count return at once.
+  Kokkos::parallel_for("rast::raster::naive", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, f.triCapacity),
+                       NaiveRaster{f.tris, f.counters, f.vis, f.vp.width, f.triCapacity});
+}
+
+void clearVisibility(FrameBuffers& f) {
+  auto vis = f.vis;
+  Kokkos::parallel_for("rast::raster::clear", Range(0, int64_t(f.vp.width) * f.vp.height),
+                       KOKKOS_LAMBDA(const int64_t i) { vis(i) = kClearKey; });
+}
+
+}  // namespace rast

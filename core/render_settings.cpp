@@ -1,0 +1,52 @@
+#include "render_settings.h"
+
+#include "scene.h"
+
+namespace rast {
+namespace {
+
+template <class E, size_t N>
+E parseEnum(const std::string& s, const std::pair<const char*, E> (&table)[N], const char* what) {
+  std::string names;
+  for (const auto& kv : table) {
+    if (s == kv.first) return kv.second;
+    names += names.empty() ? kv.first : std::string("|") + kv.first;
+  }
+  throw Error(std::string("unknown ") + what + " '" + s + "' (expected " + names + ")");
+}
+
+template <class E, size_t N>
+const char* nameOf(E v, const std::pair<const char*, E> (&table)[N]) {
+  for (const auto& kv : table)
+    if (kv.second == v) return kv.first;
+  return "?";
+}
+
+const std::pair<const char*, ShadingMode> kShading[] = {{"lambert", ShadingMode::Lambert},
+                                                        {"blinn-phong", ShadingMode::BlinnPhong},
+                                                        {"normals", ShadingMode::Normals},
+                                                        {"depth", ShadingMode::Depth}};
+const std::pair<const char*, RasterMethod> kRaster[] = {
+    {"auto", RasterMethod::Auto}, {"naive", RasterMethod::Naive}, {"visbuffer", RasterMethod::VisBuffer}};
+const std::pair<const char*, TexFilter> kFilter[] = {{"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}};
+const std::pair<const char*, CullMode> kCull[] = {{"none", CullMode::None}, {"back", CullMode::Back}};
+
+}  // namespace
+
+const char* toString(ShadingMode m) { return nameOf(m, kShading); }
+const char* toString(RasterMethod m) { return nameOf(m, kRaster); }
+const char* toString(TexFilter f) { return nameOf(f, kFilter); }
+const char* toString(CullMode c) { return nameOf(c, kCull); }
+ShadingMode parseShading(const std::string& s) { return parseEnum(s, kShading, "shading"); }
+RasterMethod parseRaster(const std::string& s) { return parseEnum(s, kRaster, "raster method"); }
+TexFilter parseFilter(const std::string& s) { return parseEnum(s, kFilter, "filter"); }
+CullMode parseCull(const std::string& s) { return parseEnum(s, kCull, "cull mode"); }
+
+std::vector<RasterMethod> allRasterMethods() {
+  std::vector<RasterMethod> out;
+  for (const auto& kv : kRaster)
+    if (kv.second != RasterMethod::Auto) out.push_back(kv.second);
+  return out;
+}
+
+}  // namespace rast

@@ -1,0 +1,67 @@
+// The renderer: owns the device scene and the frame buffers, and runs the
+// stages of a frame in order.
+#pragma once
+
+#include "camera.h"
+#include "device_scene.h"
+#include "frame_buffers.h"
+#include "render_settings.h"
+#include "stages.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rast {
+
+class StageTimer;
+
+struct FrameStats {
+  uint32_t trianglesIn = 0;   // drawn triangles submitted
+  uint32_t rasterTris = 0;    // after clipping, culling and snapping
+  uint32_t rasterWork = 0;    // work items of the raster method
+  RasterMethod method = RasterMethod::VisBuffer;
+  int attempts = 1;           // > 1 when buffers had to grow and the frame was redone
+  size_t deviceBytes = 0;     // scene + frame buffers
+  size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)
+};
+
+class Renderer {
+ public:
+  explicit Renderer(const Scene& scene);
+
+  // Renders one frame and waits for it. If the frame needed larger buffers
+  // than it had, they grow and the frame is rendered again (never capped).
+  FrameStats render(const Camera& cam, const RenderSettings& rs);
+
+  // Enqueues one frame with no host-device traffic (for benchmarks); call
+  // lastFrameFit() afterwards to check that no buffer overflowed.
+  void enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer = nullptr);
+
+  // Reads the device counters of the last frame (a small copy that waits for
+  // it); grows the buffers for next time and returns false if it overflowed.
+  bool lastFrameFit(FrameStats* stats = nullptr);
+
+  // Results of the last frame. Colour is sRGB RGBA8 (R in the low byte) with the
+  // top row first, as image files store it; depth, ids and normals keep
+  // OpenGL's bottom-up row order.
+  std::vector<uint32_t> colorTopDown() const;
+  std::vector<float> depthBottomUp() const;
+  std::vector<uint32_t> primIdsBottomUp() const;
+  std::vector<float3> normalsBottomUp() const;
+
+  const DeviceScene& scene() const { return scene_; }
+  RasterMethod resolveMethod(const RenderSettings& rs) const;
+  size_t deviceBytes() const { return scene_.bytes() + frame_.bytes(); }
+
+ private:
+  void prepare(const RenderSettings& rs);
+
+  DeviceScene scene_;
+  FrameBuffers frame_;
+  DView<LightGPU> lights_;
+  std::vector<DirectionalLight> uploadedLights_;
+  RasterMethod lastMethod_ = RasterMethod::VisBuffer;
+};
+
+}  // namespace rast

@@ -1,0 +1,50 @@
+// The pipeline stages, in frame order. Each enqueues named Kokkos kernels on
+// rast::Exec and returns without waiting for them.
+//
+//   vertexStage      model-view-projection of every drawn vertex
+//   primitiveSetup   index fetch, clipping, culling, snapping -> RasterTri list
+//   raster*          coverage + depth test -> visibility buffer (one per method)
+//   shadeStage       perspective-correct attributes, texturing, lighting -> colour
+#pragma once
+
+#include "frame_buffers.h"
+#include "render_settings.h"
+
+namespace rast {
+
+// Exclusive prefix sum of data[0, n) in place; the total goes to counters(slot)
+// on the device.
+void scanExclusive(const char* label, const DView<uint32_t>& data, uint32_t n, const DView<uint32_t>& counters,
+                   int slot);
+
+void vertexStage(const DeviceScene& s, FrameBuffers& f, const mat4d& viewProj, bool needWorld);
+
+// Writes f.tris (up to f.triCapacity) and f.counters(kRasterTris).
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack);
+
+void clearVisibility(FrameBuffers& f);
+
+// Raster methods: each reads f.tris / f.counters(kRasterTris) and min-combines
+// visKey values into f.vis. All produce bit-identical visibility buffers.
+void rasterNaive(FrameBuffers& f);
+void rasterVisBuffer(FrameBuffers& f);
+
+struct LightGPU {
+  float3 direction;  // normalised, towards the light
+  float intensity;
+};
+
+struct ShadeParams {
+  ShadingMode mode;
+  TexFilter filter;
+  float3 eye;
+  float ambient, specular, shininess;
+  float4 background;
+  float znear, zfar;  // for the depth visualisation
+  int32_t headlight;  // 1: one light at the eye, per fragment
+  int32_t wantDepth, wantPrimId, wantNormals;
+};
+
+void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
+
+}  // namespace rast

@@ -1,0 +1,72 @@
+// Texture sampling on the device: glTF wrap modes, nearest and bilinear
+// filtering of sRGB RGBA8 texels, filtered in linear light as OpenGL does for
+// sRGB textures.
+#pragma once
+
+#include "gpu_types.h"
+#include "scene.h"
+
+namespace rast {
+
+KOKKOS_INLINE_FUNCTION int32_t wrapIndex(int32_t i, int32_t n, int32_t mode) {
+  if (mode == WrapClamp) return i < 0 ? 0 : (i >= n ? n - 1 : i);
+  if (mode == WrapMirror) {
+    const int32_t period = 2 * n;
+    int32_t m = i % period;
+    if (m < 0) m += period;
+    return m < n ? m : period - 1 - m;
+  }
+  int32_t m = i % n;
+  return m < 0 ? m + n : m;
+}
+
+// Brings a texture coordinate into a range where integer texel indices cannot
+// overflow, without changing what any wrap mode samples (the mirror period is
+// 2, a multiple of the repeat period 1). NaN samples the origin.
+KOKKOS_INLINE_FUNCTION float reduceCoord(float u, int32_t mode) {
+  if (!isFinite(u)) return 0.0f;
+  if (mode == WrapClamp) return u < -1.0f ? -1.0f : (u > 2.0f ? 2.0f : u);
+  return u - 2.0f * ::floorf(u * 0.5f);
+}
+
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 fetchTexel(const TextureGPU& t, const Texels& texels, const Lut& lut, int32_t x,
+                                         int32_t y) {
+  const uint32_t c = texels(t.offset + uint32_t(y) * uint32_t(t.width) + uint32_t(x));
+  return {lut(c & 0xff), lut((c >> 8) & 0xff), lut((c >> 16) & 0xff), float(c >> 24) * (1.0f / 255.0f)};
+}
+
+// uv (0,0) is the top-left corner of the image (glTF), whose first stored row is
+// the top one: row index = v * height.
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleNearest(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
+                                            float v) {
+  const float fu = reduceCoord(u, t.wrapS) * float(t.width), fv = reduceCoord(v, t.wrapT) * float(t.height);
+  const int32_t x = wrapIndex(int32_t(::floorf(fu)), t.width, t.wrapS);
+  const int32_t y = wrapIndex(int32_t(::floorf(fv)), t.height, t.wrapT);
+  return fetchTexel(t, texels, lut, x, y);
+}
+
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleBilinear(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
+                                             float v) {
+  const float fu = reduceCoord(u, t.wrapS) * float(t.width) - 0.5f;
+  const float fv = reduceCoord(v, t.wrapT) * float(t.height) - 0.5f;
+  const float flu = ::floorf(fu), flv = ::floorf(fv);
+  const float a = fu - flu, b = fv - flv;
+  const int32_t x0 = int32_t(flu), y0 = int32_t(flv);
+  const int32_t xa = wrapIndex(x0, t.width, t.wrapS), xb = wrapIndex(x0 + 1, t.width, t.wrapS);
+  const int32_t ya = wrapIndex(y0, t.height, t.wrapT), yb = wrapIndex(y0 + 1, t.height, t.wrapT);
+  const float4 c00 = fetchTexel(t, texels, lut, xa, ya), c10 = fetchTexel(t, texels, lut, xb, ya);
+  const float4 c01 = fetchTexel(t, texels, lut, xa, yb), c11 = fetchTexel(t, texels, lut, xb, yb);
+  return (c00 * ((1.0f - a) * (1.0f - b)) + c10 * (a * (1.0f - b))) + (c01 * ((1.0f - a) * b) + c11 * (a * b));
+}
+
+// Linear [0,1] -> sRGB-encoded byte, with the exact piecewise curve.
+KOKKOS_INLINE_FUNCTION uint32_t linearToSrgb8(float c) {
+  c = clamp01(c);
+  const float s = c <= 0.0031308f ? c * 12.92f : 1.055f * ::powf(c, 1.0f / 2.4f) - 0.055f;
+  return uint32_t(s * 255.0f + 0.5f);
+}
+
+}  // namespace rast

@@ -1,0 +1,72 @@
+// Vertex stage: per-draw model-view-projection matrices, then every drawn vertex
+// to clip space (and to world space when the shading needs positions/normals).
+#include "stages.h"
+
+namespace rast {
+namespace {
+
+// MVP = viewProj * model in double, rounded to float once: the same matrix
+// glref hands OpenGL.
+struct DrawMatrices {
+  DView<DrawGPU> draws;
+  DView<mat4f> mvp;
+  mat4d vp;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int d) const {
+    const mat4d& m = draws(d).model;
+    mat4f out;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) {
+        double acc = 0.0;
+        for (int k = 0; k < 4; ++k) acc += vp.m[k * 4 + r] * m.m[c * 4 + k];
+        out.m[c * 4 + r] = float(acc);
+      }
+    mvp(d) = out;
+  }
+};
+
+template <bool kWorld>
+struct TransformVertices {
+  DView<DrawGPU> draws;
+  DView<uint32_t> drawVertStart;
+  uint32_t numDraws;
+  DView<mat4f> mvp;
+  DView<float3> positions, normals;
+  DView<float4> clip;
+  DView<float3> worldPos, worldNormal;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t v) const {
+    const uint32_t d = findRange(drawVertStart, numDraws, v);
+    const DrawGPU& dr = draws(d);
+    const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
+    const float3 p = positions(src);
+    clip(v) = mul(mvp(d), p);
+    if (kWorld) {
+      mat4f model;
+      for (int k = 0; k < 16; ++k) model.m[k] = float(dr.model.m[k]);
+      worldPos(v) = mulPoint(model, p);
+      worldNormal(v) = normalize(mul(dr.normalMatrix, normals(src)));
+    }
+  }
+};
+
+}  // namespace
+
+void vertexStage(const DeviceScene& s, FrameBuffers& f, const mat4d& viewProj, bool needWorld) {
+  ensureCapacity(f.mvp, "frame.mvp", s.numDraws);
+  ensureCapacity(f.clip, "frame.clip", s.numVerts);
+  Kokkos::parallel_for("rast::vertex::draw_matrices", Range(0, s.numDraws), DrawMatrices{s.draws, f.mvp, viewProj});
+  if (needWorld) {
+    ensureCapacity(f.worldPos, "frame.worldPos", s.numVerts);
+    ensureCapacity(f.worldNormal, "frame.worldNormal", s.numVerts);
+    Kokkos::parallel_for("rast::vertex::transform", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, s.numVerts),
+                         TransformVertices<true>{s.draws, s.drawVertStart, s.numDraws, f.mvp, s.positions, s.normals,
+                                                 f.clip, f.worldPos, f.worldNormal});
+  } else {
+    Kokkos::parallel_for("rast::vertex::transform", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, s.numVerts),
+                         TransformVertices<false>{s.draws, s.drawVertStart, s.numDraws, f.mvp, s.positions, s.normals,
+                                                  f.clip, f.worldPos, f.worldNormal});
+  }
+}
+
+}  // namespace rast

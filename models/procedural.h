@@ -1,0 +1,25 @@
+// Procedural scenes built into rast, so that it renders without any file:
+// `builtin:<name>[?key=value&...]`.
+#pragma once
+
+#include "../core/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace rast {
+
+// The embedded default scene: a checker-textured ground plane seen in
+// perspective, a vertex-coloured cube, a textured sphere and a flat-shaded
+// pyramid (no normals: the loader's flat-normal path).
+Scene defaultScene();
+
+// Resolves "builtin:<name>"; throws Error for an unknown name.
+Scene builtinScene(const std::string& spec);
+std::vector<std::string> builtinSceneNames();
+
+// Loads a scene argument: empty -> the default scene, "builtin:..." -> a
+// procedural scene, anything else -> a glTF file.
+Scene loadSceneArg(const std::string& arg);
+
+}  // namespace rast

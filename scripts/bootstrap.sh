@@ -1,0 +1,231 @@
+#!/usr/bin/env bash
+# Bootstrap the build dependencies of the Kokkos rasterizer on Debian 12 (bookworm).
+#
+#   bash scripts/bootstrap.sh [--viewer]
+#
+# Idempotent: installs only the Debian packages that are missing (apt-get update only
+# when something must be installed) and builds Kokkos only when none is found.
+#
+# Kokkos resolution, first match wins:
+#   1. <repo>/.deps/kokkos/install already holds a KokkosConfig.cmake  -> nothing to do
+#   2. env Kokkos_ROOT is set, or an OpenMP-enabled KokkosConfig.cmake is
+#      found under /usr/local, /usr, /opt                               -> nothing to do
+#   3. env RAST_KOKKOS_SOURCE points at a Kokkos source tree            -> build + install it
+#   4. Kokkos 3.4.1 from Debian's trilinos source package (deb-src)     -> build + install it
+# Builds install into <repo>/.deps/kokkos/install (OpenMP + Serial, Release, C++17), which
+# cmake/RastKokkos.cmake finds without further flags.
+#
+# Options:
+#   --viewer   also install the windowed viewer's packages (GLFW, Dear ImGui, Xvfb, Mesa GL/EGL)
+#   -h|--help  show this help
+set -euo pipefail
+
+REPO_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+DEPS_DIR="$REPO_ROOT/.deps"
+SRC_CACHE="$DEPS_DIR/src"
+KOKKOS_DIR="$DEPS_DIR/kokkos"
+KOKKOS_PREFIX="$KOKKOS_DIR/install"
+KOKKOS_LOG="$KOKKOS_DIR/build.log"
+KOKKOS_STAMP="$KOKKOS_DIR/STAMP"
+DEB_SRC_FILE=/etc/apt/sources.list.d/rast-bookworm-src.sources
+APT_LOCK_OPT=(-o DPkg::Lock::Timeout=600)
+
+log() { printf '[bootstrap] %s\n' "$*"; }
+die() { printf '[bootstrap] ERROR: %s\n' "$*" >&2; exit 1; }
+
+WITH_VIEWER=0
+for arg in "$@"; do
+  case "$arg" in
+    --viewer) WITH_VIEWER=1 ;;
+    -h|--help) sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    *) die "unknown argument: $arg (try --help)" ;;
+  esac
+done
+
+T_START=$(date +%s)
+
+# ---------------------------------------------------------------- privileges
+SUDO=()
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO=(sudo); else SUDO=(__no_root__); fi
+fi
+as_root() {
+  if [ "${SUDO[0]:-}" = "__no_root__" ]; then
+    die "need root for: $* (run as root or install sudo)"
+  fi
+  "${SUDO[@]}" "$@"
+}
+export DEBIAN_FRONTEND=noninteractive
+
+APT_UPDATED=0
+apt_update() {
+  if [ "$APT_UPDATED" -eq 0 ]; then
+    log "apt-get update"
+    as_root env DEBIAN_FRONTEND=noninteractive apt-get "${APT_LOCK_OPT[@]}" update -qq
+    APT_UPDATED=1
+  fi
+}
+
+# ---------------------------------------------------------------- Debian packages
+PACKAGES=(build-essential cmake ninja-build git pkg-config ca-certificates xz-utils dpkg-dev
+          libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev catch2 libcli11-dev
+          python3 python3-matplotlib assimp-testmodels)
+VIEWER_PACKAGES=(libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri libegl-mesa0
+                 libgl-dev libegl-dev libopengl-dev)
+[ "$WITH_VIEWER" -eq 1 ] && PACKAGES+=("${VIEWER_PACKAGES[@]}")
+
+# "ii" = installed and configured; anything else (absent, half-configured, ...) is missing
+INSTALLED=" $(dpkg-query -W -f='${db:Status-Abbrev}${Package}\n' "${PACKAGES[@]}" 2>/dev/null \
+              | awk '/^ii/ {printf "%s ", substr($0, 4)}' || true)"
+MISSING=()
+for p in "${PACKAGES[@]}"; do
+  case "$INSTALLED" in *" $p "*) ;; *) MISSING+=("$p") ;; esac
+done
+if [ "${#MISSING[@]}" -gt 0 ]; then
+  log "installing missing packages: ${MISSING[*]}"
+  apt_update
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get "${APT_LOCK_OPT[@]}" install -y -qq \
+      --no-install-recommends "${MISSING[@]}" >/dev/null
+  log "packages installed"
+else
+  log "all ${#PACKAGES[@]} Debian packages already installed"
+fi
+
+# ---------------------------------------------------------------- Kokkos
+kokkos_config_in() {  # prints the first KokkosConfig.cmake below prefix $1
+  find "$1" -maxdepth 5 -path '*/cmake/Kokkos/KokkosConfig.cmake' -print -quit 2>/dev/null || true
+}
+
+kokkos_has_openmp() {  # $1 = directory holding KokkosConfig.cmake
+  grep -rqsiE 'Kokkos_DEVICES[" ]+[^)]*OPENMP' "$1" 2>/dev/null
+}
+
+finish() {
+  log "done in $(( $(date +%s) - T_START )) s"
+  exit 0
+}
+
+existing="$(ls "$KOKKOS_PREFIX"/lib*/cmake/Kokkos/KokkosConfig.cmake 2>/dev/null | head -n1 || true)"
+if [ -n "$existing" ]; then
+  log "Kokkos already installed: $existing"
+  finish
+fi
+
+if [ -n "${Kokkos_ROOT:-}" ]; then
+  log "Kokkos_ROOT=$Kokkos_ROOT is set: using it, not building Kokkos"
+  finish
+fi
+
+for prefix in /usr/local /usr /opt; do
+  cfg="$(kokkos_config_in "$prefix")"
+  if [ -n "$cfg" ]; then
+    if kokkos_has_openmp "$(dirname "$cfg")"; then
+      log "found system Kokkos with OpenMP: $cfg (not building Kokkos)"
+      finish
+    else
+      log "ignoring $cfg: no OpenMP backend (e.g. Debian's serial-only libtrilinos-kokkos-dev)"
+    fi
+  fi
+done
+
+build_kokkos() {  # $1 = Kokkos source dir, $2 = description of where it came from
+  local src="$1" origin="$2" t0 t1
+  [ -f "$src/CMakeLists.txt" ] && [ -d "$src/core/src" ] || die "$src is not a Kokkos source tree"
+  mkdir -p "$KOKKOS_DIR"
+  rm -rf "$KOKKOS_DIR/build"
+  : >"$KOKKOS_LOG"
+  log "configuring Kokkos from $src (log: $KOKKOS_LOG)"
+  t0=$(date +%s)
+  if ! cmake -S "$src" -B "$KOKKOS_DIR/build" -G Ninja \
+        -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_CXX_STANDARD=17 \
+        -DCMAKE_POSITION_INDEPENDENT_CODE=ON \
+        -DCMAKE_INSTALL_PREFIX="$KOKKOS_PREFIX" \
+        -DKokkos_ENABLE_OPENMP=ON \
+        -DKokkos_ENABLE_SERIAL=ON \
+        -DKokkos_ENABLE_TESTS=OFF \
+        -DKokkos_ENABLE_EXAMPLES=OFF >>"$KOKKOS_LOG" 2>&1; then
+    tail -n 30 "$KOKKOS_LOG" >&2; die "Kokkos configure failed (see $KOKKOS_LOG)"
+  fi
+  log "building + installing Kokkos into $KOKKOS_PREFIX"
+  if ! cmake --build "$KOKKOS_DIR/build" --parallel "$(nproc)" >>"$KOKKOS_LOG" 2>&1 \
+     || ! cmake --install "$KOKKOS_DIR/build" >>"$KOKKOS_LOG" 2>&1; then
+    tail -n 30 "$KOKKOS_LOG" >&2; die "Kokkos build failed (see $KOKKOS_LOG)"
+  fi
+  t1=$(date +%s)
+  local cfg version
+  cfg="$(ls "$KOKKOS_PREFIX"/lib*/cmake/Kokkos/KokkosConfig.cmake | head -n1)"
+  version="$(sed -n 's/.*PACKAGE_VERSION "\([0-9.]*\)".*/\1/p' "$(dirname "$cfg")/KokkosConfigVersion.cmake" | head -n1)"
+  {
+    echo "kokkos_version=${version:-unknown}"
+    echo "origin=$origin"
+    echo "source=$src"
+    echo "prefix=$KOKKOS_PREFIX"
+    echo "config=$cfg"
+    echo "devices=OpenMP;Serial"
+    echo "build_seconds=$((t1 - t0))"
+    echo "built_at=$(date -u +%Y-%m-%dT%H:%M:%SZ)"
+    echo "compiler=$(c++ --version | head -n1)"
+  } >"$KOKKOS_STAMP"
+  log "Kokkos ${version:-?} installed in $((t1 - t0)) s: $cfg"
+}
+
+if [ -n "${RAST_KOKKOS_SOURCE:-}" ]; then
+  [ -d "$RAST_KOKKOS_SOURCE" ] || die "RAST_KOKKOS_SOURCE=$RAST_KOKKOS_SOURCE is not a directory"
+  build_kokkos "$(cd "$RAST_KOKKOS_SOURCE" && pwd)" "RAST_KOKKOS_SOURCE"
+  finish
+fi
+
+# --- Kokkos 3.4.1 out of Debian's trilinos source package (packages/kokkos) ---
+mkdir -p "$SRC_CACHE"
+orig_tarball() { ls "$SRC_CACHE"/trilinos_*.orig.tar.* 2>/dev/null | head -n1 || true; }
+
+if [ -z "$(orig_tarball)" ]; then
+  have_src_index() { apt-cache showsrc --only-source trilinos 2>/dev/null | grep -q '^Package: trilinos$'; }
+  if ! have_src_index; then
+    if [ ! -e "$DEB_SRC_FILE" ]; then
+      # copy URIs/Signed-By of the machine's own bookworm entry (deb822 or one-line format)
+      uris="" signed=""
+      if [ -r /etc/apt/sources.list.d/debian.sources ]; then
+        stanza="$(awk 'BEGIN{RS=""} /(^|\n)Suites:[^\n]*[ \t]bookworm([ \t\n]|$)/ {print; exit}' \
+                   /etc/apt/sources.list.d/debian.sources)"
+        uris="$(printf '%s\n' "$stanza" | sed -n 's/^URIs:[[:space:]]*//p' | head -n1)"
+        signed="$(printf '%s\n' "$stanza" | sed -n 's/^Signed-By:[[:space:]]*//p' | head -n1)"
+      fi
+      if [ -z "$uris" ] && [ -r /etc/apt/sources.list ]; then
+        uris="$(awk '$1=="deb" && $0 ~ / bookworm / {for(i=2;i<=NF;i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}' /etc/apt/sources.list)"
+      fi
+      uris="${uris:-http://deb.debian.org/debian}"
+      signed="${signed:-/usr/share/keyrings/debian-archive-keyring.gpg}"
+      log "adding deb-src entry $DEB_SRC_FILE ($uris)"
+      printf 'Types: deb-src\nURIs: %s\nSuites: bookworm\nComponents: main\nSigned-By: %s\n' \
+        "$uris" "$signed" | as_root tee "$DEB_SRC_FILE" >/dev/null
+    fi
+    APT_UPDATED=0
+    apt_update
+    have_src_index || die "no trilinos source package visible after apt-get update"
+  fi
+  log "downloading Debian trilinos source package into $SRC_CACHE (~166 MB)"
+  sandbox=()
+  [ "$(id -u)" -eq 0 ] && sandbox=(-o APT::Sandbox::User=root)
+  (cd "$SRC_CACHE" && apt-get "${sandbox[@]}" -qq source --download-only trilinos >/dev/null)
+  [ -n "$(orig_tarball)" ] || die "apt-get source trilinos did not produce an orig tarball"
+else
+  log "using cached $(orig_tarball)"
+fi
+
+tarball="$(orig_tarball)"
+kokkos_src="$KOKKOS_DIR/src"
+if [ ! -f "$kokkos_src/CMakeLists.txt" ]; then
+  log "extracting packages/kokkos from $(basename "$tarball")"
+  tmp="$KOKKOS_DIR/extract.tmp"
+  rm -rf "$tmp" "$kokkos_src"
+  mkdir -p "$tmp"
+  tar -xf "$tarball" -C "$tmp" --wildcards '*/packages/kokkos/*'
+  found="$(find "$tmp" -maxdepth 3 -type d -path '*/packages/kokkos' -print -quit)"
+  [ -n "$found" ] || die "packages/kokkos not found in $tarball"
+  mv "$found" "$kokkos_src"
+  rm -rf "$tmp"
+fi
+build_kokkos "$kokkos_src" "debian-trilinos-source:$(basename "$tarball")"
+finish

@@ -1,0 +1,58 @@
+#include "test_support.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <sys/stat.h>
+
+namespace rast::test {
+
+Frame renderFrame(const Scene& s, const Camera& cam, RenderSettings rs) {
+  rs.wantPrimId = true;
+  rs.wantDepth = true;
+  Renderer r(s);
+  Frame f;
+  f.stats = r.render(cam, rs);
+  f.width = rs.width;
+  f.height = rs.height;
+  f.color = r.colorTopDown();
+  f.ids = r.primIdsBottomUp();
+  f.depth = r.depthBottomUp();
+  return f;
+}
+
+Scene trianglesScene(const std::vector<float3>& positions, const std::vector<uint32_t>& indices,
+                     const std::vector<float2>* uvs) {
+  Scene s;
+  s.name = "test";
+  s.materials.push_back(Material{});
+  const uint32_t p = addPrim(s, positions, nullptr, uvs, nullptr, indices, 0);
+  s.draws.push_back(Draw{p, glm::dmat4(1.0)});
+  return s;
+}
+
+Camera identityCamera() {
+  Camera c;
+  c.viewProjOverride = glm::dmat4(1.0);
+  return c;
+}
+
+float3 windowToNdc(double x, double y, double z, int width, int height) {
+  return float3{float(x / width * 2.0 - 1.0), float(y / height * 2.0 - 1.0), float(z)};
+}
+
+bool fileExists(const std::string& p) {
+  struct stat st;
+  return ::stat(p.c_str(), &st) == 0;
+}
+
+std::string sharedDir() {
+  const std::string d = RAST_SHARED_DIR;
+  return fileExists(d + "/models") ? d : std::string();
+}
+
+std::string assimpDir() {
+  const std::string d = RAST_ASSIMP_GLTF_DIR;
+  return fileExists(d) ? d : std::string();
+}
+
+}  // namespace rast::test

@@ -1,0 +1,38 @@
+// Helpers shared by the tests: render a scene to host buffers, build small
+// scenes from triangles, find test data.
+#pragma once
+
+#include "core/renderer.h"
+#include "core/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace rast::test {
+
+struct Frame {
+  int width = 0, height = 0;
+  std::vector<uint32_t> color;  // top row first
+  std::vector<uint32_t> ids;    // bottom row first (OpenGL order): ids[y * width + x]
+  std::vector<float> depth;     // bottom row first
+  FrameStats stats;
+  uint32_t id(int x, int y) const { return ids[size_t(y) * width + x]; }
+};
+
+// Renders with ids and depth requested.
+Frame renderFrame(const Scene& s, const Camera& cam, RenderSettings rs);
+
+// A scene of raw triangles (object space = world space), one draw, one material.
+Scene trianglesScene(const std::vector<float3>& positions, const std::vector<uint32_t>& indices,
+                     const std::vector<float2>* uvs = nullptr);
+
+// Identity view-projection: positions are NDC (clip space with w = 1), so a
+// test can place vertices at exact window positions with windowToNdc().
+Camera identityCamera();
+float3 windowToNdc(double x, double y, double z, int width, int height);
+
+std::string sharedDir();                       // "" when ../shared is absent
+std::string assimpDir();                       // "" when assimp-testmodels is absent
+bool fileExists(const std::string& p);
+
+}  // namespace rast::test
