@@ -40,7 +40,7 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--near", znear, "near plane distance");
   app.add_option("--far", zfar, "far plane distance");
   app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
-  app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth")->capture_default_str();
+  app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth|uv")->capture_default_str();
   app.add_option("--filter", filter, "texture filter: nearest|bilinear")->capture_default_str();
   app.add_option("--raster", raster, "raster method: auto|naive|visbuffer")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");

@@ -25,7 +25,8 @@ const char* nameOf(E v, const std::pair<const char*, E> (&table)[N]) {
 const std::pair<const char*, ShadingMode> kShading[] = {{"lambert", ShadingMode::Lambert},
                                                         {"blinn-phong", ShadingMode::BlinnPhong},
                                                         {"normals", ShadingMode::Normals},
-                                                        {"depth", ShadingMode::Depth}};
+                                                        {"depth", ShadingMode::Depth},
+                                                        {"uv", ShadingMode::TexCoord}};
 const std::pair<const char*, RasterMethod> kRaster[] = {
     {"auto", RasterMethod::Auto}, {"naive", RasterMethod::Naive}, {"visbuffer", RasterMethod::VisBuffer}};
 const std::pair<const char*, TexFilter> kFilter[] = {{"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}};

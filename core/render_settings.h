@@ -10,7 +10,7 @@
 namespace rast {
 
 enum class CullMode { None, Back };
-enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth };
+enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord };
 enum class TexFilter { Nearest, Bilinear };
 enum class RasterMethod { Auto, Naive, VisBuffer };
 

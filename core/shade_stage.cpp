@@ -89,7 +89,22 @@ struct Shade {
       return;
     }
 
-    const bool needN = p.mode != ShadingMode::Depth;
+    if (p.mode == ShadingMode::TexCoord) {
+      // Texture coordinates as raw red/green bytes (fractional part), for
+      // inspecting interpolation; black where the scene has none.
+      float u = 0.0f, v = 0.0f;
+      if (hasUV) {
+        const uint32_t s0 = dr.srcVertex + i0, s1 = dr.srcVertex + i1, s2 = dr.srcVertex + i2;
+        u = uvs(s0).x * b0 + uvs(s1).x * b1 + uvs(s2).x * b2;
+        v = uvs(s0).y * b0 + uvs(s1).y * b1 + uvs(s2).y * b2;
+        u -= ::floorf(u);
+        v -= ::floorf(v);
+      }
+      color(i) = uint32_t(clamp01(u) * 255.0f + 0.5f) | uint32_t(clamp01(v) * 255.0f + 0.5f) << 8 | 0xff000000u;
+      return;
+    }
+
+    const bool needN = true;
     float3 N{0.0f, 0.0f, 0.0f}, P{0.0f, 0.0f, 0.0f};
     if (needN) {
       const uint32_t v0 = dr.dstVertex + i0, v1 = dr.dstVertex + i1, v2 = dr.dstVertex + i2;

@@ -45,7 +45,7 @@ int32_t addMaterial(Scene& s, float4 base, int32_t tex) {
 void addGround(Scene& s) {
   s.textures.push_back(checkerTexture(256, 8, rgba(235, 235, 235), rgba(40, 40, 48)));
   const int32_t mat = addMaterial(s, {1, 1, 1, 1}, int32_t(s.textures.size() - 1));
-  const float e = 4.0f, rep = 4.0f;
+  const float e = 2.6f, rep = 3.0f;
   std::vector<float3> p = {{-e, 0, e}, {e, 0, e}, {e, 0, -e}, {-e, 0, -e}};
   std::vector<float3> n(4, float3{0, 1, 0});
   std::vector<float2> uv = {{0, rep}, {rep, rep}, {rep, 0}, {0, 0}};
