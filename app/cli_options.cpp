@@ -42,7 +42,7 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
   app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth|uv")->capture_default_str();
   app.add_option("--filter", filter, "texture filter: nearest|bilinear")->capture_default_str();
-  app.add_option("--raster", raster, "raster method: auto|naive|visbuffer")->capture_default_str();
+  app.add_option("--raster", raster, "raster method: auto|naive|visbuffer|binned")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
   app.add_option("--background", background, "background colour r,g,b in [0,1], linear")->capture_default_str();
 }
@@ -75,7 +75,7 @@ RenderSettings SceneOptions::settings() const {
 }
 
 Camera SceneOptions::camera(const Scene& s) const {
-  Camera c = autoFrame(s, fovy);
+  Camera c = defaultCamera(s, fovy);
   if (!eye.empty()) c.eye = parseVec3(eye, "eye");
   if (!target.empty()) c.target = parseVec3(target, "target");
   if (!up.empty()) c.up = parseVec3(up, "up");

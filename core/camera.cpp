@@ -46,6 +46,18 @@ Camera Camera::roundTripped() const {
   return c;
 }
 
+Camera defaultCamera(const Scene& scene, double fovyDeg) {
+  if (!scene.camera) return autoFrame(scene, fovyDeg);
+  Camera c;
+  c.eye = scene.camera->eye;
+  c.target = scene.camera->target;
+  c.up = scene.camera->up;
+  c.fovyDeg = scene.camera->fovyDeg;
+  c.znear = scene.camera->znear;
+  c.zfar = scene.camera->zfar;
+  return c;
+}
+
 Camera autoFrame(const Scene& scene, double fovyDeg) {
   glm::dvec3 lo, hi;
   scene.worldBounds(lo, hi);

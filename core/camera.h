@@ -35,4 +35,7 @@ struct Camera {
 // near = d/100, far = d*100.
 Camera autoFrame(const Scene& scene, double fovyDeg = 45.0);
 
+// The scene's own camera when it has one, else autoFrame().
+Camera defaultCamera(const Scene& scene, double fovyDeg = 45.0);
+
 }  // namespace rast

@@ -26,6 +26,7 @@ struct FrameBuffers {
   DView<RasterTri> tris;     // raster triangles
   DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work
   DView<uint32_t> work;        // method-specific work list (bin entries)
+  DView<uint32_t> tileStart;   // binned method: first list entry of each tile
   DView<uint32_t> counters;
   DView<uint64_t> vis;       // per pixel: depth and raster triangle (see visKey)
   DView<uint32_t> color;     // per pixel: sRGB RGBA8

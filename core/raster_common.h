@@ -84,6 +84,7 @@ KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, 
 // E_0 is the weight of vertex 2, E_1 of vertex 0, E_2 of vertex 1.
 struct Edges {
   int64_t A[3], B[3], C[3];
+  int64_t bias[3];  // 1 on top-left edges, else 0: inside means E_i + bias_i > 0
 
   KOKKOS_INLINE_FUNCTION explicit Edges(const RasterTri& t) {
     for (int i = 0; i < 3; ++i) {
@@ -95,16 +96,19 @@ struct Edges {
       C[i] = dx * (kSubHalf - int64_t(t.y[i])) - dy * (kSubHalf - int64_t(t.x[i]));
       // Top-left rule (y up): a pixel centre exactly on an edge belongs to the
       // triangle only for a left edge (going down) or a top edge (horizontal,
-      // going left). Folding it into C makes the test a plain "> 0".
-      const bool topLeft = dy < 0 || (dy == 0 && dx < 0);
-      if (topLeft) C[i] += 1;
+      // going left). The bias turns that into a plain "> 0" test; it must not
+      // enter the weights, which for a sub-pixel triangle it would skew enough
+      // to push depth past the far plane.
+      bias[i] = (dy < 0 || (dy == 0 && dx < 0)) ? 1 : 0;
     }
   }
   KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const { return A[i] * X + B[i] * Y + C[i]; }
+  KOKKOS_INLINE_FUNCTION bool inside(int64_t e0, int64_t e1, int64_t e2) const {
+    return e0 + bias[0] > 0 && e1 + bias[1] > 0 && e2 + bias[2] > 0;
+  }
 };
 
-// Window depth at a covered pixel, from the exact edge values (bias included:
-// it shifts a weight by at most one part in 2^16 of a pixel's area).
+// Window depth at a covered pixel, from the exact (unbiased) edge values.
 KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t e1, int64_t e2) {
   const float l0 = float(e1) * t.invArea, l1 = float(e2) * t.invArea, l2 = float(e0) * t.invArea;
   return clamp01(l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2]);
@@ -128,7 +132,7 @@ KOKKOS_INLINE_FUNCTION void rasterRect(const RasterTri& t, const Edges& e, uint3
     int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
     uint64_t* row = vis + int64_t(y) * width;
     for (int32_t x = x0; x <= x1; ++x) {
-      if (e0 > 0 && e1 > 0 && e2 > 0) {
+      if (e.inside(e0, e1, e2)) {
         const uint64_t key = visKey(depthAt(t, e0, e1, e2), index);
         // The plain read only skips atomics that could not win; the atomic
         // minimum alone decides, so the result is independent of ordering.

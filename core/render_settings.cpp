@@ -28,7 +28,10 @@ const std::pair<const char*, ShadingMode> kShading[] = {{"lambert", ShadingMode:
                                                         {"depth", ShadingMode::Depth},
                                                         {"uv", ShadingMode::TexCoord}};
 const std::pair<const char*, RasterMethod> kRaster[] = {
-    {"auto", RasterMethod::Auto}, {"naive", RasterMethod::Naive}, {"visbuffer", RasterMethod::VisBuffer}};
+    {"auto", RasterMethod::Auto},
+    {"naive", RasterMethod::Naive},
+    {"visbuffer", RasterMethod::VisBuffer},
+    {"binned", RasterMethod::Binned}};
 const std::pair<const char*, TexFilter> kFilter[] = {{"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}};
 const std::pair<const char*, CullMode> kCull[] = {{"none", CullMode::None}, {"back", CullMode::Back}};
 

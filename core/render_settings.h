@@ -12,7 +12,7 @@ namespace rast {
 enum class CullMode { None, Back };
 enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord };
 enum class TexFilter { Nearest, Bilinear };
-enum class RasterMethod { Auto, Naive, VisBuffer };
+enum class RasterMethod { Auto, Naive, VisBuffer, Binned };
 
 struct DirectionalLight {
   float3 direction{0.0f, 0.0f, 1.0f};  // world space, pointing towards the light

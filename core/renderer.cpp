@@ -9,7 +9,7 @@ namespace rast {
 
 size_t FrameBuffers::bytes() const {
   return viewBytes(mvp) + viewBytes(clip) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(triOffset) +
-         viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(counters) + viewBytes(vis) +
+         viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(tileStart) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal);
 }
 
@@ -84,10 +84,18 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   if (timer) timer->mark("setup");
 
   Kokkos::Profiling::pushRegion("rast::raster");
-  clearVisibility(frame_);
   switch (lastMethod_) {
-    case RasterMethod::Naive: rasterNaive(frame_); break;
-    default: rasterVisBuffer(frame_); break;
+    case RasterMethod::Naive:
+      clearVisibility(frame_);
+      rasterNaive(frame_);
+      break;
+    case RasterMethod::Binned:
+      rasterBinned(frame_);
+      break;
+    default:
+      clearVisibility(frame_);
+      rasterVisBuffer(frame_);
+      break;
   }
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("raster");
@@ -123,10 +131,19 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     stats->deviceBytes = deviceBytes();
     stats->minimumBytes = scene_.bytes() + viewBytes(frame_.vis) + viewBytes(frame_.color);
   }
-  if (need <= frame_.triCapacity) return true;
-  frame_.triCapacity = need + need / 8;
-  frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
-  return false;
+  bool fit = true;
+  if (need > frame_.triCapacity) {
+    frame_.triCapacity = need + need / 8;
+    frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
+    fit = false;
+  }
+  // The binned method's list has its own capacity (its count is only valid
+  // when every raster triangle was kept).
+  if (fit && lastMethod_ == RasterMethod::Binned && h(kRasterWork) > frame_.workCapacity) {
+    frame_.workCapacity = h(kRasterWork) + h(kRasterWork) / 8;
+    fit = false;
+  }
+  return fit;
 }
 
 FrameStats Renderer::render(const Camera& cam, const RenderSettings& rs) {

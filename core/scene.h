@@ -10,6 +10,7 @@
 #include "vec.h"
 
 #include <glm/glm.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -48,8 +49,16 @@ struct Draw {
   glm::dmat4 model = glm::dmat4(1.0);  // node-to-world transform
 };
 
+// A camera a scene asks to be seen from (procedural stress scenes); glTF
+// files are auto-framed instead, as glref does.
+struct SceneCamera {
+  glm::dvec3 eye{0, 0, 5}, target{0, 0, 0}, up{0, 1, 0};
+  double fovyDeg = 45.0, znear = 0.1, zfar = 100.0;
+};
+
 struct Scene {
   std::string name;
+  std::optional<SceneCamera> camera;
   // Vertex streams. normals always has one entry per vertex (flat normals are
   // generated where a file has none); uvs and colors are empty when no
   // primitive of the scene uses them, so unused attributes cost nothing.

@@ -28,6 +28,7 @@ void clearVisibility(FrameBuffers& f);
 // visKey values into f.vis. All produce bit-identical visibility buffers.
 void rasterNaive(FrameBuffers& f);
 void rasterVisBuffer(FrameBuffers& f);
+void rasterBinned(FrameBuffers& f);  // writes every pixel: needs no clearVisibility
 
 struct LightGPU {
   float3 direction;  // normalised, towards the light

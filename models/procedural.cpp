@@ -1,6 +1,7 @@
 #include "procedural.h"
 
 #include "../core/gltf_loader.h"
+#include "stress_scenes.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -125,11 +126,17 @@ Scene defaultScene() {
   return s;
 }
 
-std::vector<std::string> builtinSceneNames() { return {"default"}; }
+std::vector<std::string> builtinSceneNames() {
+  std::vector<std::string> n = {"default"};
+  n.insert(n.end(), stressSceneNames().begin(), stressSceneNames().end());
+  return n;
+}
 
 Scene builtinScene(const std::string& spec) {
   const std::string name = spec.substr(spec.find(':') + 1);
   if (name == "default") return defaultScene();
+  Scene s;
+  if (makeStressScene(name, s)) return s;
   std::string names;
   for (const auto& n : builtinSceneNames()) names += " " + n;
   throw Error("unknown builtin scene '" + name + "' (available:" + names + ")");

@@ -22,7 +22,8 @@ ap.add_argument("--methods", default="")
 args = ap.parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 
-scenes = ["", "builtin:default"]
+scenes = ["", "builtin:default", "builtin:bigtri", "builtin:tiny?n=20000", "builtin:overdraw?layers=64",
+          "builtin:slivers", "builtin:nearplane", "builtin:degenerate", "builtin:extreme?scale=1e6", "builtin:zfight"]
 if args.assimp and os.path.isdir(args.assimp):
     for rel in ["BoxTextured-glTF-Binary/BoxTextured.glb", "2CylinderEngine-glTF-Binary/2CylinderEngine.glb"]:
         p = os.path.join(args.assimp, rel)

@@ -33,7 +33,7 @@ std::vector<int> coverageCounts(const std::vector<double>& wx, const std::vector
     const Edges e(rt);
     for (int y = rt.minY; y <= rt.maxY; ++y)
       for (int x = rt.minX; x <= rt.maxX; ++x)
-        if (e.eval(0, x, y) > 0 && e.eval(1, x, y) > 0 && e.eval(2, x, y) > 0) ++count[size_t(y) * W + x];
+        if (e.inside(e.eval(0, x, y), e.eval(1, x, y), e.eval(2, x, y))) ++count[size_t(y) * W + x];
   }
   return count;
 }

@@ -1,0 +1,257 @@
+// The stability suite: procedural scenes aimed at the places where
+// rasterisation methods are known to fail. Each is `builtin:<name>[?k=v&...]`
+// and carries its own camera (eye (0,0,5) looking at the origin unless noted),
+// so every renderer given the same flags sees the same frame. At that camera
+// the plane z = 0 shows x in about [-3.7, 3.7] and y in [-2.07, 2.07] (16:9).
+#include "stress_scenes.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace rast {
+namespace {
+
+constexpr double kHalfH = 2.0710678;  // 5 * tan(22.5 deg)
+constexpr double kHalfW = kHalfH * 16.0 / 9.0;
+
+float4 hue(int i, int n) {
+  const double h = 6.0 * (double(i) / std::max(n, 1));
+  const double r = std::fabs(h - 3.0) - 1.0, g = 2.0 - std::fabs(h - 2.0), b = 2.0 - std::fabs(h - 4.0);
+  auto c = [](double v) { return float(0.15 + 0.85 * std::min(std::max(v, 0.0), 1.0)); };
+  return {c(r), c(g), c(b), 1.0f};
+}
+
+struct Builder {
+  Scene s;
+  explicit Builder(const std::string& name) {
+    s.name = "builtin:" + name;
+    s.camera = SceneCamera{};
+  }
+  int32_t material(float4 c) {
+    s.materials.push_back(Material{c, -1});
+    return int32_t(s.materials.size() - 1);
+  }
+  // One primitive drawn once, flat-shaded unless normals are given.
+  void add(const std::vector<float3>& p, const std::vector<uint32_t>& idx, int32_t mat,
+           const std::vector<float3>* n = nullptr, const glm::dmat4& m = glm::dmat4(1.0)) {
+    s.draws.push_back(Draw{addPrim(s, p, n, nullptr, nullptr, idx, mat), m});
+  }
+  // An axis-aligned quad in the plane z, counter-clockwise seen from +z.
+  void quad(double x0, double y0, double x1, double y1, double z, int32_t mat) {
+    const float fz = float(z);
+    std::vector<float3> n(4, float3{0, 0, 1});
+    add({{float(x0), float(y0), fz}, {float(x1), float(y0), fz}, {float(x1), float(y1), fz}, {float(x0), float(y1), fz}},
+        {0, 1, 2, 0, 2, 3}, mat, &n);
+  }
+  // A grid of cells x cells quads over [x0,x1]x[y0,y1] at depth z: closed (no
+  // holes) and watertight, so any hole or double hit is a rasteriser bug.
+  void grid(int cells, double x0, double y0, double x1, double y1, double z, int32_t mat) {
+    std::vector<float3> p, n;
+    std::vector<uint32_t> idx;
+    for (int j = 0; j <= cells; ++j)
+      for (int i = 0; i <= cells; ++i) {
+        p.push_back({float(x0 + (x1 - x0) * i / cells), float(y0 + (y1 - y0) * j / cells), float(z)});
+        n.push_back({0, 0, 1});
+      }
+    for (int j = 0; j < cells; ++j)
+      for (int i = 0; i < cells; ++i) {
+        const uint32_t a = j * (cells + 1) + i, b = a + 1, c = a + cells + 1, d = c + 1;
+        idx.insert(idx.end(), {a, b, d, a, d, c});
+      }
+    add(p, idx, mat, &n);
+  }
+};
+
+using Params = std::map<std::string, std::string>;
+
+double num(const Params& p, const char* key, double def) {
+  auto it = p.find(key);
+  if (it == p.end()) return def;
+  char* end = nullptr;
+  const double v = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || *end || !std::isfinite(v)) throw Error(std::string("builtin scene parameter ") + key + ": '" + it->second + "' is not a number");
+  return v;
+}
+
+Scene bigtri(const Params& p) {
+  // Triangles covering the whole screen and reaching far beyond it: the naive
+  // method walks millions of pixels in one thread; clipping must keep the
+  // fixed-point range safe.
+  Builder b("bigtri");
+  const double s = num(p, "scale", 1000.0);
+  const float S = float(s);
+  b.add({{-S, -S, 0}, {S, -S, 0}, {0, S, 0}}, {0, 1, 2}, b.material({0.9f, 0.5f, 0.2f, 1}));
+  b.add({{-S, S, -1}, {S, S, -1}, {0, -S, -1}}, {0, 2, 1}, b.material({0.2f, 0.5f, 0.9f, 1}));  // behind, clockwise
+  return b.s;
+}
+
+Scene tiny(const Params& p) {
+  // About n sub-pixel to pixel-sized triangles tiling the view (at 1920x1080
+  // and n = 1M, two triangles share about two pixels).
+  Builder b("tiny");
+  const double n = num(p, "n", 1000000.0);
+  const int cells = std::max(1, int(std::sqrt(n / 2.0)));
+  b.grid(cells, -kHalfW, -kHalfH, kHalfW, kHalfH, 0.0, b.material({0.8f, 0.8f, 0.8f, 1}));
+  return b.s;
+}
+
+Scene overdraw(const Params& p) {
+  // Full-screen layers at distinct depths: every method pays per layer; the
+  // naive and visibility-buffer methods pay in atomics on the same pixels.
+  Builder b("overdraw");
+  const int layers = std::max(1, int(num(p, "layers", 64)));
+  const bool frontToBack = p.count("order") && p.at("order") == "front";
+  if (p.count("order") && p.at("order") != "front" && p.at("order") != "back")
+    throw Error("builtin:overdraw order must be front or back");
+  for (int k = 0; k < layers; ++k) {
+    const int layer = frontToBack ? k : layers - 1 - k;  // layer 0 is the nearest
+    const double z = -0.05 * layer;
+    const double grow = 1.0 + 0.01 * layer;  // farther layers still fill the screen
+    b.quad(-kHalfW * 1.1 * grow, -kHalfH * 1.1 * grow, kHalfW * 1.1 * grow, kHalfH * 1.1 * grow, z, b.material(hue(layer, layers)));
+  }
+  return b.s;
+}
+
+Scene slivers(const Params& p) {
+  // Needles from a common centre (fan with tiny angles) and horizontal slivers
+  // a fraction of a pixel tall spanning the screen.
+  Builder b("slivers");
+  const int n = std::max(3, int(num(p, "n", 2000)));
+  std::vector<float3> fan = {{0, 0, 0}};
+  std::vector<uint32_t> fi;
+  for (int k = 0; k <= n; ++k) {
+    const double a = 2.0 * M_PI * k / n;
+    fan.push_back({float(2.0 * std::cos(a)), float(2.0 * std::sin(a)), 0});
+  }
+  for (int k = 0; k < n; ++k) fi.insert(fi.end(), {0u, uint32_t(k + 1), uint32_t(k + 2)});
+  b.add(fan, fi, b.material({0.9f, 0.9f, 0.3f, 1}));
+  std::vector<float3> sl;
+  std::vector<uint32_t> si;
+  const double h = 2.0 * kHalfH / 1080.0 * 0.3;  // 0.3 pixel at 1080 rows
+  for (int k = 0; k < 200; ++k) {
+    const double y = -kHalfH + 2.0 * kHalfH * (k + 0.5) / 200.0;
+    const uint32_t base = uint32_t(sl.size());
+    sl.push_back({float(-kHalfW), float(y), 0.5f});
+    sl.push_back({float(kHalfW), float(y + h * (k % 7) / 7.0), 0.5f});
+    sl.push_back({float(-kHalfW), float(y + h), 0.5f});
+    si.insert(si.end(), {base, base + 1, base + 2});
+  }
+  b.add(sl, si, b.material({0.3f, 0.9f, 0.9f, 1}));
+  return b.s;
+}
+
+Scene nearplane(const Params&) {
+  // A floor and a wall crossing the near plane (reaching behind the camera),
+  // and triangles wholly behind it, which must draw nothing.
+  Builder b("nearplane");
+  b.s.camera->eye = {0, 0, 0};
+  b.s.camera->target = {0, -0.3, -1};
+  b.s.camera->znear = 0.1;
+  b.grid(16, -4, -12, 4, 8, 0, b.material({0.8f, 0.8f, 0.8f, 1}));  // placed by the transform below
+  b.s.draws.back().model = glm::dmat4(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, -1, 0, 1);  // floor y = -1, z in [-8, 12]
+  b.add({{1.5f, -1, 3}, {1.5f, -1, -6}, {1.5f, 2, -6}, {1.5f, 2, 3}}, {0, 1, 2, 0, 2, 3}, b.material({0.9f, 0.4f, 0.3f, 1}));
+  b.add({{-1, -1, 2}, {1, -1, 2}, {0, 1, 2}, {-1, 0, 0.05f}, {1, 0, 0.05f}, {0, 1, 0.05f}}, {0, 1, 2, 3, 4, 5},
+        b.material({0.2f, 0.9f, 0.2f, 1}));  // behind the eye, and between the eye and the near plane
+  return b.s;
+}
+
+Scene degenerate(const Params&) {
+  // Zero-area, repeated-vertex and non-finite triangles around two good ones.
+  Builder b("degenerate");
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  b.s.materials.push_back(Material{{0.9f, 0.6f, 0.2f, 1}, -1});
+  const std::vector<float3> p = {{-2, -1, 0}, {2, -1, 0},  {0, 1.5f, 0},   // good
+                                 {-3, -2, 0}, {0, 0, 0},   {3, 2, 0},      // collinear
+                                 {1, 1, 0},   {1, 1, 0},   {2, 0, 0},      // repeated vertex
+                                 {nan, 0, 0}, {1, 1, 0},   {0, 1, 0},      // NaN
+                                 {inf, 0, 0}, {1, -1, 0},  {0, -1, 0},     // +Inf
+                                 {-inf, -inf, 0}, {inf, inf, 0}, {0, 0, 0},  // infinite extent
+                                 {-1, -1.5f, 0.5f}, {1, -1.5f, 0.5f}, {0, -0.5f, 0.5f}};  // good
+  // Positions go in as they are: the loader refuses non-finite files, but the
+  // pipeline must survive such geometry from any other source.
+  MeshPrim prim{0, uint32_t(p.size()), 0, uint32_t(p.size() / 3), 0};
+  b.s.positions = p;
+  b.s.normals.assign(p.size(), float3{0, 0, 1});
+  for (uint32_t i = 0; i < p.size(); ++i) b.s.indices.push_back(i);
+  b.s.prims.push_back(prim);
+  b.s.draws.push_back(Draw{0, glm::dmat4(1.0)});
+  return b.s;
+}
+
+Scene extreme(const Params& p) {
+  // The same content at a scale around 1e6 or 1e-6 (camera scaled alike):
+  // large coordinates stress the guard band and snapping, small ones depth.
+  const double s = num(p, "scale", 1e6);
+  if (!(s > 0)) throw Error("builtin:extreme scale must be positive");
+  Builder b("extreme");
+  b.grid(32, -3, -2, 3, 2, 0, b.material({0.7f, 0.7f, 0.9f, 1}));
+  b.add({{-1, -1, 0.5f}, {1, -1, 0.5f}, {0, 1, 0.5f}}, {0, 1, 2}, b.material({0.9f, 0.3f, 0.3f, 1}));
+  for (Draw& d : b.s.draws) d.model = glm::dmat4(s, 0, 0, 0, 0, s, 0, 0, 0, 0, s, 0, 0, 0, 0, 1);
+  b.s.camera->eye *= s;
+  b.s.camera->znear *= s;
+  b.s.camera->zfar *= s;
+  return b.s;
+}
+
+Scene zfight(const Params&) {
+  // Coplanar pairs with different triangulations and colours, and two planes
+  // crossing each other: the winner must not depend on scheduling.
+  Builder b("zfight");
+  b.grid(7, -3, -2, 3, 2, 0, b.material({0.9f, 0.2f, 0.2f, 1}));
+  b.grid(5, -3, -2, 3, 2, 0, b.material({0.2f, 0.9f, 0.2f, 1}));
+  b.quad(-2, -1.5, 2, 1.5, 0, b.material({0.2f, 0.2f, 0.9f, 1}));
+  b.add({{-3, -2, -1}, {3, -2, 1}, {3, 2, 1}, {-3, 2, -1}}, {0, 1, 2, 0, 2, 3}, b.material({0.9f, 0.9f, 0.2f, 1}));
+  return b.s;
+}
+
+Scene gridScene(const Params& p) {
+  // A square grid mesh (2 n^2 triangles, side 2) for the triangle-size sweep:
+  // move the camera (--eye 0,0,d) to make the same mesh tiny or huge on screen.
+  Builder b("grid");
+  const int n = std::max(1, int(num(p, "n", 256)));
+  b.grid(n, -1, -1, 1, 1, 0, b.material({0.8f, 0.8f, 0.6f, 1}));
+  return b.s;
+}
+
+Params parseParams(const std::string& q) {
+  Params p;
+  std::stringstream ss(q);
+  std::string kv;
+  while (std::getline(ss, kv, '&')) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw Error("builtin scene parameter '" + kv + "' is not key=value");
+    p[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
+  return p;
+}
+
+}  // namespace
+
+const std::vector<std::string>& stressSceneNames() {
+  static const std::vector<std::string> names = {"bigtri", "tiny", "overdraw", "slivers", "nearplane",
+                                                 "degenerate", "extreme", "zfight", "grid"};
+  return names;
+}
+
+bool makeStressScene(const std::string& nameAndParams, Scene& out) {
+  const auto q = nameAndParams.find('?');
+  const std::string name = nameAndParams.substr(0, q);
+  const Params p = parseParams(q == std::string::npos ? "" : nameAndParams.substr(q + 1));
+  Scene s;
+  if (name == "bigtri") s = bigtri(p);
+  else if (name == "tiny") s = tiny(p);
+  else if (name == "overdraw") s = overdraw(p);
+  else if (name == "slivers") s = slivers(p);
+  else if (name == "nearplane") s = nearplane(p);
+  else if (name == "degenerate") s = degenerate(p);
+  else if (name == "extreme") s = extreme(p);
+  else if (name == "zfight") s = zfight(p);
+  else if (name == "grid") s = gridScene(p);
+  else return false;
+  s.name = "builtin:" + nameAndParams;
+  out = std::move(s);
+  return true;
+}
+
+}  // namespace rast
