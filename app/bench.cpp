@@ -20,7 +20,7 @@ double median(std::vector<double> v) {
 }
 
 struct BenchRow {
-  std::string scene, method, backend;
+  std::string scene, requested, method, backend;
   int width, height, frames;
   std::vector<std::pair<std::string, double>> stageMedianMs;
   double totalMedianMs, totalMinMs;
@@ -48,6 +48,7 @@ BenchRow benchOne(Renderer& r, const Camera& cam, const RenderSettings& rs, cons
   BenchRow row;
   if (!r.lastFrameFit(&row.stats)) throw Error("internal: buffers overflowed during timed frames");
   row.scene = sceneName;
+  row.requested = toString(rs.raster);
   row.method = toString(row.stats.method);
   row.backend = Exec::name();
   row.width = rs.width;
@@ -61,7 +62,8 @@ BenchRow benchOne(Renderer& r, const Camera& cam, const RenderSettings& rs, cons
 
 std::string jsonRow(const BenchRow& b) {
   char buf[512];
-  std::string s = "{\"scene\": \"" + b.scene + "\", \"method\": \"" + b.method + "\", \"backend\": \"" + b.backend + "\"";
+  std::string s = "{\"scene\": \"" + b.scene + "\", \"requested\": \"" + b.requested + "\", \"method\": \"" + b.method +
+                  "\", \"backend\": \"" + b.backend + "\"";
   std::snprintf(buf, sizeof buf,
                 ", \"width\": %d, \"height\": %d, \"frames\": %d, \"total_median_ms\": %.6f, \"total_min_ms\": %.6f"
                 ", \"triangles_in\": %u, \"triangles_raster\": %u, \"raster_work_items\": %u"
@@ -83,7 +85,7 @@ void BenchOptions::addTo(CLI::App& app) {
   app.add_option("--warmup", warmup, "untimed frames first")->capture_default_str()->check(CLI::Range(0, 1000000));
   app.add_option("--json", json, "write the rows as a JSON array to this file");
   app.add_option("--csv", csv, "write the rows as CSV to this file");
-  app.add_flag("--all-methods", allMethods, "bench every raster method (overrides --raster)");
+  app.add_flag("--all-methods", allMethods, "bench every raster method, then auto (overrides --raster)");
 }
 
 int runBench(const SceneOptions& so, const BenchOptions& bo) {
@@ -95,17 +97,19 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
               cam.flags().c_str());
   Renderer r(scene);
   std::vector<RasterMethod> methods = bo.allMethods ? allRasterMethods() : std::vector<RasterMethod>{rs.raster};
+  if (bo.allMethods) methods.push_back(RasterMethod::Auto);
   std::vector<BenchRow> rows;
   for (RasterMethod m : methods) {
     rs.raster = m;
     rows.push_back(benchOne(r, cam, rs, bo, sceneName));
   }
 
-  std::printf("%-10s", "method");
+  std::printf("%-16s", "method");
   for (const auto& s : rows[0].stageMedianMs) std::printf(" %10s", s.first.c_str());
   std::printf(" %10s %10s %12s %12s\n", "total", "min", "tris_raster", "device_MiB");
   for (const BenchRow& b : rows) {
-    std::printf("%-10s", b.method.c_str());
+    const std::string label = b.requested == b.method ? b.method : b.requested + "->" + b.method;
+    std::printf("%-16s", label.c_str());
     for (const auto& s : b.stageMedianMs) std::printf(" %10.3f", s.second);
     std::printf(" %10.3f %10.3f %12u %12.1f\n", b.totalMedianMs, b.totalMinMs, b.stats.rasterTris,
                 b.stats.deviceBytes / 1048576.0);
@@ -123,12 +127,12 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
   if (!bo.csv.empty()) {
     std::ofstream f(bo.csv);
     if (!f) throw Error("cannot write '" + bo.csv + "'");
-    f << "scene,method,backend,width,height,frames,total_median_ms,total_min_ms,triangles_in,triangles_raster,"
+    f << "scene,requested,method,backend,width,height,frames,total_median_ms,total_min_ms,triangles_in,triangles_raster,"
          "raster_work_items,device_bytes,minimum_bytes";
     for (const auto& s : rows[0].stageMedianMs) f << "," << s.first << "_median_ms";
     f << "\n";
     for (const BenchRow& b : rows) {
-      f << b.scene << "," << b.method << "," << b.backend << "," << b.width << "," << b.height << "," << b.frames << ","
+      f << b.scene << "," << b.requested << "," << b.method << "," << b.backend << "," << b.width << "," << b.height << "," << b.frames << ","
         << b.totalMedianMs << "," << b.totalMinMs << "," << b.stats.trianglesIn << "," << b.stats.rasterTris << ","
         << b.stats.rasterWork << "," << b.stats.deviceBytes << "," << b.stats.minimumBytes;
       for (const auto& s : b.stageMedianMs) f << "," << s.second;

@@ -8,6 +8,7 @@
 #include "../backends/stage_timer.h"
 #include "../core/image_io.h"
 #include "../core/renderer.h"
+#include "../models/gltf_export.h"
 #include "../models/procedural.h"
 #include "bench.h"
 #include "cli_options.h"
@@ -103,6 +104,11 @@ int run(int argc, char** argv) {
   benchOpts.addTo(*bench);
   bo.addTo(*bench);
 
+  std::string exportScene, exportOut;
+  CLI::App* exportCmd = app.add_subcommand("export", "write a scene (e.g. a builtin: stress scene) as .glb");
+  exportCmd->add_option("scene", exportScene, "scene to export (builtin:<name> or a glTF file)")->required();
+  exportCmd->add_option("-o,--output", exportOut, "output .glb")->required();
+
   app.add_subcommand("info", "backend, Kokkos version, threads / device");
 
   try {
@@ -116,6 +122,13 @@ int run(int argc, char** argv) {
   }
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
   if (bench->parsed()) return runBench(benchOpts, bo);
+  if (exportCmd->parsed()) {
+    const Scene s = loadSceneArg(exportScene);
+    exportGlb(s, exportOut);
+    std::printf("rast: wrote %s (%u triangles); view it with %s\n", exportOut.c_str(), s.triangleCount(),
+                defaultCamera(s).flags().c_str());
+    return 0;
+  }
   return cmdInfo();
 }
 

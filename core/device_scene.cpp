@@ -3,6 +3,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include <cmath>
+#include <limits>
 
 namespace rast {
 namespace {
@@ -86,13 +87,25 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     lut[i] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
   }
   d.srgbToLinear = uploadVec("scene.srgbToLinear", lut);
+  std::vector<float> thr(256);
+  thr[0] = -std::numeric_limits<float>::infinity();
+  for (int b = 1; b < 256; ++b) {
+    // The linear value whose exact sRGB encoding is (b - 0.5) / 255, rounded up
+    // to a float so that "t(b) <= c" reproduces round-to-nearest.
+    const double s = (b - 0.5) / 255.0;
+    const double lin = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+    float f = float(lin);
+    if (double(f) < lin) f = std::nextafter(f, 2.0f);
+    thr[b] = f;
+  }
+  d.srgbEncode = uploadVec("scene.srgbEncode", thr);
   return d;
 }
 
 size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(materials) +
-         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear);
+         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncode);
 }
 
 }  // namespace rast

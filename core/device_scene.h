@@ -21,6 +21,7 @@ struct DeviceScene {
   DView<TextureGPU> textures;
   DView<uint32_t> texels;  // all textures, sRGB RGBA8
   DView<float> srgbToLinear;  // 256-entry decode table
+  DView<float> srgbEncode;    // 256 thresholds: byte b encodes linear values in [t(b), t(b+1))
 
   uint32_t numDraws = 0, numTris = 0, numVerts = 0;  // drawn counts
   bool hasUV = false, hasColor = false, hasTextures = false;

@@ -34,6 +34,7 @@ struct FrameBuffers {
   DView<uint32_t> primId;    // AOV, allocated on request
   DView<float3> normal;      // AOV, allocated on request
   Kokkos::View<Kokkos::MinMaxScalar<float>, Mem> depthRange;  // depth visualisation only
+  Kokkos::View<uint64_t, Mem> sumArea, maxArea;  // raster statistics for RasterMethod::Auto
 
   // Capacities chosen by the host; the device writes nothing past them and
   // reports the sizes it needed in `counters`.

@@ -37,3 +37,45 @@ void clearVisibility(FrameBuffers& f) {
 }
 
 }  // namespace rast
+
+namespace rast {
+namespace {
+
+KOKKOS_INLINE_FUNCTION uint64_t bboxArea(const RasterTri& t) {
+  return uint64_t(t.maxX - t.minX + 1) * uint64_t(t.maxY - t.minY + 1);
+}
+
+struct AreaSum {
+  DView<RasterTri> tris;
+  DView<uint32_t> counters;
+  uint32_t capacity;
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint64_t& sum) const {
+    const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
+    if (i < n) sum += bboxArea(tris(i));
+  }
+};
+struct AreaMax {
+  DView<RasterTri> tris;
+  DView<uint32_t> counters;
+  uint32_t capacity;
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint64_t& mx) const {
+    const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
+    if (i < n && bboxArea(tris(i)) > mx) mx = bboxArea(tris(i));
+  }
+};
+
+}  // namespace
+
+void rasterStatistics(FrameBuffers& f) {
+  if (!f.sumArea.data()) {
+    f.sumArea = Kokkos::View<uint64_t, Mem>("frame.sumArea");
+    f.maxArea = Kokkos::View<uint64_t, Mem>("frame.maxArea");
+  }
+  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
+  Kokkos::parallel_reduce("rast::raster::stats::area_sum", Policy(0, f.triCapacity),
+                          AreaSum{f.tris, f.counters, f.triCapacity}, Kokkos::Sum<uint64_t, Mem>(f.sumArea));
+  Kokkos::parallel_reduce("rast::raster::stats::area_max", Policy(0, f.triCapacity),
+                          AreaMax{f.tris, f.counters, f.triCapacity}, Kokkos::Max<uint64_t, Mem>(f.maxArea));
+}
+
+}  // namespace rast

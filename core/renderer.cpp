@@ -2,6 +2,7 @@
 
 #include "../backends/stage_timer.h"
 #include "raster_common.h"
+#include "texture_sampling.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -32,9 +33,15 @@ Renderer::Renderer(const Scene& scene) : scene_(DeviceScene::upload(scene)) {
 
 RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const {
   if (rs.raster != RasterMethod::Auto) return rs.raster;
-  // Bounded work per item makes the visibility buffer safe on every scene; the
-  // naive method only wins on scenes of tiny triangles (see docs/).
-  return RasterMethod::VisBuffer;
+  // Without statistics yet (first frame), the binned method: bounded work per
+  // item and no atomics whatever the scene.
+  if (!autoStats_.valid || autoStats_.tris == 0) return RasterMethod::Binned;
+  // Only small triangles: one work item per triangle walking its box is the
+  // cheapest (no binning, no block expansion). The limit is one binned tile:
+  // beyond it a single item's walk starts to dominate its neighbours'.
+  constexpr uint64_t kSmallTriangleArea = 32 * 32;
+  if (autoStats_.maxArea <= kSmallTriangleArea) return RasterMethod::Naive;
+  return RasterMethod::Binned;
 }
 
 void Renderer::prepare(const RenderSettings& rs) {
@@ -71,6 +78,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   const bool lit = rs.shading == ShadingMode::Lambert || rs.shading == ShadingMode::BlinnPhong;
   const bool needWorld = lit || rs.shading == ShadingMode::Normals || rs.wantNormals;
   lastMethod_ = resolveMethod(rs);
+  lastAuto_ = rs.raster == RasterMethod::Auto;
 
   if (timer) timer->start();
   Kokkos::Profiling::pushRegion("rast::vertex");
@@ -81,6 +89,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   Kokkos::Profiling::pushRegion("rast::setup");
   primitiveSetup(scene_, frame_, rs.cull == CullMode::Back);
   Kokkos::Profiling::popRegion();
+  if (lastAuto_) rasterStatistics(frame_);
   if (timer) timer->mark("setup");
 
   Kokkos::Profiling::pushRegion("rast::raster");
@@ -108,6 +117,8 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   sp.specular = rs.specular;
   sp.shininess = rs.shininess;
   sp.background = rs.background;
+  sp.backgroundPacked = linearToSrgb8(rs.background.x) | linearToSrgb8(rs.background.y) << 8 |
+                        linearToSrgb8(rs.background.z) << 16 | linearToSrgb8(1.0f) << 24;
   sp.znear = float(cam.znear);
   sp.zfar = float(cam.zfar);
   sp.headlight = rs.lights.empty() ? 1 : 0;
@@ -123,6 +134,11 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
 bool Renderer::lastFrameFit(FrameStats* stats) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.counters);
   const uint32_t need = h(kRasterTris);
+  if (lastAuto_) {
+    auto sum = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.sumArea);
+    auto mx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.maxArea);
+    autoStats_ = AutoStats{need <= frame_.triCapacity, sum(), mx(), need};
+  }
   if (stats) {
     stats->trianglesIn = scene_.numTris;
     stats->rasterTris = need;

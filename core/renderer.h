@@ -51,6 +51,8 @@ class Renderer {
   std::vector<float3> normalsBottomUp() const;
 
   const DeviceScene& scene() const { return scene_; }
+  // The method a frame with these settings uses (auto: chosen from the
+  // previous frame's statistics; see chooseAuto in renderer.cpp).
   RasterMethod resolveMethod(const RenderSettings& rs) const;
   size_t deviceBytes() const { return scene_.bytes() + frame_.bytes(); }
 
@@ -62,6 +64,15 @@ class Renderer {
   DView<LightGPU> lights_;
   std::vector<DirectionalLight> uploadedLights_;
   RasterMethod lastMethod_ = RasterMethod::VisBuffer;
+  bool lastAuto_ = false;
+
+  // What `auto` decides from: statistics of the previous frame's raster
+  // triangles (read with the counters after a frame, so no extra round trip).
+  struct AutoStats {
+    bool valid = false;
+    uint64_t sumArea = 0, maxArea = 0;
+    uint32_t tris = 0;
+  } autoStats_;
 };
 
 }  // namespace rast

@@ -18,7 +18,7 @@ struct Shade {
   DView<MaterialGPU> materials;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;
-  DView<float> lut;
+  DView<float> lut, encode;
   uint32_t numDraws;
   int32_t hasUV, hasColor;
   // frame
@@ -35,7 +35,8 @@ struct Shade {
   ShadeParams p;
 
   KOKKOS_INLINE_FUNCTION uint32_t pack(float4 c) const {
-    return linearToSrgb8(c.x) | linearToSrgb8(c.y) << 8 | linearToSrgb8(c.z) << 16 | uint32_t(clamp01(c.w) * 255.0f + 0.5f) << 24;
+    return encodeSrgb8(c.x, encode) | encodeSrgb8(c.y, encode) << 8 | encodeSrgb8(c.z, encode) << 16 |
+           uint32_t(clamp01(c.w) * 255.0f + 0.5f) << 24;
   }
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
@@ -47,7 +48,7 @@ struct Shade {
     const uint64_t key = vis(i);
     const uint32_t idx = uint32_t(key & 0xffffffffu);
     if (idx == 0) {
-      color(i) = pack(p.background);
+      color(i) = p.backgroundPacked;
       if (p.wantDepth) depthOut(i) = 1.0f;
       if (p.wantPrimId) primOut(i) = 0;
       if (p.wantNormals) normalOut(i) = float3{0.0f, 0.0f, 0.0f};
@@ -185,7 +186,7 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
     Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.znear, p.zfar},
                             Kokkos::MinMax<float, Mem>(f.depthRange));
   }
-  Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear,
+  Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
           f.depth, f.primId, f.normal, lights, f.depthRange, f.vp.width, p};
   Kokkos::parallel_for("rast::shade", Range(0, n), k);

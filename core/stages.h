@@ -30,6 +30,10 @@ void rasterNaive(FrameBuffers& f);
 void rasterVisBuffer(FrameBuffers& f);
 void rasterBinned(FrameBuffers& f);  // writes every pixel: needs no clearVisibility
 
+// Cheap statistics of the raster triangles (sum and maximum of their pixel
+// bounding-box areas) into f.sumArea / f.maxArea, for choosing a method.
+void rasterStatistics(FrameBuffers& f);
+
 struct LightGPU {
   float3 direction;  // normalised, towards the light
   float intensity;
@@ -41,6 +45,7 @@ struct ShadeParams {
   float3 eye;
   float ambient, specular, shininess;
   float4 background;
+  uint32_t backgroundPacked;  // sRGB RGBA8, encoded once on the host
   float znear, zfar;  // for the depth visualisation
   int32_t headlight;  // 1: one light at the eye, per fragment
   int32_t wantDepth, wantPrimId, wantNormals;

@@ -62,6 +62,17 @@ KOKKOS_INLINE_FUNCTION float4 sampleBilinear(const TextureGPU& t, const Texels& 
   return (c00 * ((1.0f - a) * (1.0f - b)) + c10 * (a * (1.0f - b))) + (c01 * ((1.0f - a) * b) + c11 * (a * b));
 }
 
+// Linear [0,1] -> sRGB-encoded byte by binary search over the 256 decision
+// thresholds (DeviceScene::srgbEncode, computed in double on the host): eight
+// comparisons instead of a powf, and the same bytes on every backend.
+template <class Table>
+KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8(float c, const Table& t) {
+  uint32_t lo = 0;  // t(0) is -inf: t(lo) <= c always (NaN encodes as 0)
+  for (uint32_t step = 128; step; step >>= 1)
+    if (t(lo + step) <= c) lo += step;
+  return lo;
+}
+
 // Linear [0,1] -> sRGB-encoded byte, with the exact piecewise curve.
 KOKKOS_INLINE_FUNCTION uint32_t linearToSrgb8(float c) {
   c = clamp01(c);

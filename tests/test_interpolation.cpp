@@ -20,9 +20,9 @@ glm::dvec2 planeUV(double x, double z) { return {(x + 1.0) / 2.0 * 0.99, (z + 1.
 TEST_CASE("attributes are interpolated perspective-correctly", "[interp]") {
   const int W = 160, H = 120;
   // A floor quad x in [-1, 1], z in [-8, -1], seen at a grazing angle.
-  std::vector<float3> p = {{-1, 0, -1}, {1, 0, -1}, {1, 0, -8}, {-1, 0, -8}};
-  std::vector<float2> uv;
-  for (const float3& v : p) {
+  std::vector<rast::float3> p = {{-1, 0, -1}, {1, 0, -1}, {1, 0, -8}, {-1, 0, -8}};
+  std::vector<rast::float2> uv;
+  for (const rast::float3& v : p) {
     const glm::dvec2 t = planeUV(v.x, v.z);
     uv.push_back({float(t.x), float(t.y)});
   }
@@ -95,7 +95,7 @@ TEST_CASE("nearest and bilinear sampling with every wrap mode", "[texture]") {
   const HostTexels T{&texels};
   const IdentityLut L;
   TextureGPU t{0, 2, 2, WrapRepeat, WrapRepeat};
-  auto g = [](float4 c) { return double(c.x) * 255.0; };
+  auto g = [](rast::float4 c) { return double(c.x) * 255.0; };
 
   SECTION("nearest picks the texel containing the coordinate") {
     CHECK(g(sampleNearest(t, T, L, 0.25f, 0.25f)) == Approx(0));
@@ -141,6 +141,21 @@ TEST_CASE("sRGB decode and encode round-trip every byte", "[texture]") {
   Scene s = trianglesScene({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2});
   const DeviceScene d = DeviceScene::upload(s);
   auto lut = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d.srgbToLinear);
-  for (uint32_t b = 0; b < 256; ++b) REQUIRE(linearToSrgb8(lut(b)) == b);
+  auto enc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d.srgbEncode);
+  for (uint32_t b = 0; b < 256; ++b) {
+    REQUIRE(linearToSrgb8(lut(b)) == b);
+    REQUIRE(encodeSrgb8(lut(b), enc) == b);
+  }
+  // The table encoder rounds like the formula everywhere (up to powf's last
+  // bit at the 255 decision points).
+  int differ = 0;
+  for (int i = 0; i <= 100000; ++i) {
+    const float c = float(i) / 100000.0f;
+    differ += encodeSrgb8(c, enc) != linearToSrgb8(c);
+  }
+  CHECK(differ <= 2);
+  CHECK(encodeSrgb8(-1.0f, enc) == 0);
+  CHECK(encodeSrgb8(2.0f, enc) == 255);
+  CHECK(encodeSrgb8(std::nanf(""), enc) == 0);
   CHECK(lut(128) == Approx(0.2158605).epsilon(1e-5));
 }
