@@ -40,8 +40,13 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--near", znear, "near plane distance");
   app.add_option("--far", zfar, "far plane distance");
   app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
-  app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth|uv")->capture_default_str();
-  app.add_option("--filter", filter, "texture filter: nearest|bilinear")->capture_default_str();
+  app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth|uv|miplevel")->capture_default_str();
+  app.add_option("--filter", filter, "texture filter: nearest|bilinear|trilinear")->capture_default_str();
+  app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8")->capture_default_str();
+  app.add_flag("--reference", reference, "ground truth: 16x16 stratified samples per pixel (slow on purpose)");
+  app.add_option("--reference-grid", referenceGrid, "reference samples per pixel side")->capture_default_str();
+  app.add_option("--interp", interp, "attribute interpolation: perspective|affine (affine only to compare)")
+      ->capture_default_str();
   app.add_option("--raster", raster, "raster method: auto|naive|visbuffer|binned")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
   app.add_option("--background", background, "background colour r,g,b in [0,1], linear")->capture_default_str();
@@ -61,6 +66,12 @@ RenderSettings SceneOptions::settings() const {
   rs.shading = parseShading(shading);
   rs.filter = parseFilter(filter);
   rs.raster = parseRaster(raster);
+  parseAA(aa, rs);
+  rs.reference = reference;
+  rs.referenceGrid = referenceGrid;
+  if (referenceGrid < 1 || referenceGrid > 64) throw Error("--reference-grid must be 1..64");
+  if (interp != "perspective" && interp != "affine") throw Error("--interp: expected perspective or affine, got '" + interp + "'");
+  rs.perspectiveCorrect = interp == "perspective";
   for (const std::string& l : lights) {
     const auto v = parseNumbers(l, "light", 3, 4);
     DirectionalLight d;

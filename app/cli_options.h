@@ -21,6 +21,9 @@ struct SceneOptions {
   std::string cull = "none", shading = "lambert", filter = "bilinear", raster = "auto";
   std::vector<std::string> lights;
   std::string background = "0,0,0";
+  std::string aa = "none", interp = "perspective";
+  bool reference = false;
+  int referenceGrid = 16;
 
   void addTo(CLI::App& app);
   // Builds settings and camera; throws Error for malformed values.

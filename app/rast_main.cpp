@@ -2,6 +2,7 @@
 //
 //   rast render [SCENE] -o out.png [camera, settings, --aov ...]
 //   rast bench  [SCENE] [--frames N] [--json F] [--csv F]
+//   rast compare REF.png TEST.png [--ids ref_ids.bin] [--json F]
 //   rast info
 //
 // Every error ends in one line on stderr and exit status 1.
@@ -11,6 +12,7 @@
 #include "../models/gltf_export.h"
 #include "../models/procedural.h"
 #include "bench.h"
+#include "compare_cmd.h"
 #include "cli_options.h"
 
 #include <CLI/CLI.hpp>
@@ -109,6 +111,11 @@ int run(int argc, char** argv) {
   exportCmd->add_option("scene", exportScene, "scene to export (builtin:<name> or a glTF file)")->required();
   exportCmd->add_option("-o,--output", exportOut, "output .glb")->required();
 
+  // Image quality of TEST against REF (app/compare_cmd.h).
+  CompareOptions compareOpts;
+  CLI::App* compare = app.add_subcommand("compare", "image error metrics of TEST against the reference REF");
+  compareOpts.addTo(*compare);
+
   app.add_subcommand("info", "backend, Kokkos version, threads / device");
 
   try {
@@ -122,6 +129,7 @@ int run(int argc, char** argv) {
   }
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
   if (bench->parsed()) return runBench(benchOpts, bo);
+  if (compare->parsed()) return runCompare(compareOpts);
   if (exportCmd->parsed()) {
     const Scene s = loadSceneArg(exportScene);
     exportGlb(s, exportOut);

@@ -2,6 +2,7 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -71,16 +72,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   for (const Material& m : s.materials) mats.push_back({m.baseColorFactor, m.texture});
   d.materials = uploadVec("scene.materials", mats);
 
-  if (usesTexture) {
-    std::vector<TextureGPU> tex;
-    std::vector<uint32_t> texels;
-    for (const Texture& t : s.textures) {
-      tex.push_back({uint32_t(texels.size()), t.width, t.height, t.wrapS, t.wrapT});
-      texels.insert(texels.end(), t.rgba.begin(), t.rgba.end());
-    }
-    d.textures = uploadVec("scene.textures", tex);
-    d.texels = uploadVec("scene.texels", texels);
-  }
+  if (usesTexture) d.uploadTextures(s.textures, false);
   std::vector<float> lut(256);
   for (int i = 0; i < 256; ++i) {
     const double c = i / 255.0;
@@ -100,6 +92,69 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   }
   d.srgbEncode = uploadVec("scene.srgbEncode", thr);
   return d;
+}
+
+namespace {
+
+double decodeSrgb(uint32_t b) {
+  const double c = b / 255.0;
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+uint32_t encodeSrgb(double c) {
+  c = std::min(std::max(c, 0.0), 1.0);
+  const double s = c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return uint32_t(s * 255.0 + 0.5);
+}
+
+// The next level: each texel the average of its (up to) 2x2 parents, colour in
+// linear light, alpha as stored.
+std::vector<uint32_t> halve(const std::vector<uint32_t>& src, int w, int h, int& nw, int& nh) {
+  nw = w > 1 ? w / 2 : 1;
+  nh = h > 1 ? h / 2 : 1;
+  std::vector<uint32_t> out(size_t(nw) * nh);
+  for (int y = 0; y < nh; ++y)
+    for (int x = 0; x < nw; ++x) {
+      double acc[4] = {0, 0, 0, 0};
+      int n = 0;
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const int sx = std::min(2 * x + dx, w - 1), sy = std::min(2 * y + dy, h - 1);
+          const uint32_t c = src[size_t(sy) * w + sx];
+          for (int k = 0; k < 3; ++k) acc[k] += decodeSrgb((c >> (8 * k)) & 0xff);
+          acc[3] += (c >> 24) / 255.0;
+          ++n;
+        }
+      out[size_t(y) * nw + x] = encodeSrgb(acc[0] / n) | encodeSrgb(acc[1] / n) << 8 | encodeSrgb(acc[2] / n) << 16 |
+                                uint32_t(acc[3] / n * 255.0 + 0.5) << 24;
+    }
+  return out;
+}
+
+}  // namespace
+
+void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps) {
+  std::vector<TextureGPU> tex;
+  std::vector<uint32_t> texels;
+  for (const Texture& t : list) {
+    TextureGPU g{uint32_t(texels.size()), t.width, t.height, t.wrapS, t.wrapT, 1};
+    texels.insert(texels.end(), t.rgba.begin(), t.rgba.end());
+    if (mipmaps) {
+      std::vector<uint32_t> level = t.rgba;
+      int w = t.width, h = t.height;
+      while (w > 1 || h > 1) {
+        int nw, nh;
+        level = halve(level, w, h, nw, nh);
+        texels.insert(texels.end(), level.begin(), level.end());
+        w = nw;
+        h = nh;
+        ++g.levels;
+      }
+    }
+    tex.push_back(g);
+  }
+  textures = uploadVec("scene.textures", tex);
+  this->texels = uploadVec("scene.texels", texels);
+  hasMipmaps = mipmaps;
 }
 
 size_t DeviceScene::bytes() const {

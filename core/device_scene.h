@@ -27,6 +27,11 @@ struct DeviceScene {
   bool hasUV = false, hasColor = false, hasTextures = false;
 
   static DeviceScene upload(const Scene& scene);
+  // (Re)uploads the textures, with full mipmap pyramids when asked (built on
+  // the host with sRGB-correct 2x2 averaging). Trilinear filtering needs them;
+  // other filters do not pay for them.
+  void uploadTextures(const std::vector<Texture>& textures, bool mipmaps);
+  bool hasMipmaps = false;
   size_t bytes() const;
 };
 

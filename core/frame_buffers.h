@@ -30,6 +30,7 @@ struct FrameBuffers {
   DView<uint32_t> counters;
   DView<uint64_t> vis;       // per pixel: depth and raster triangle (see visKey)
   DView<uint32_t> color;     // per pixel: sRGB RGBA8
+  DView<float4> accum;       // per pixel: linear colour sum of supersampling passes
   DView<float> depth;        // AOV, allocated on request
   DView<uint32_t> primId;    // AOV, allocated on request
   DView<float3> normal;      // AOV, allocated on request

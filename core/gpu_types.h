@@ -23,8 +23,9 @@ struct MaterialGPU {
 };
 
 struct TextureGPU {
-  uint32_t offset;  // first texel in the shared texel buffer
+  uint32_t offset;  // first texel of level 0 in the shared texel buffer
   int32_t width, height, wrapS, wrapT;
+  int32_t levels;   // mipmap levels stored after level 0 (1: none)
 };
 
 // A triangle ready for rasterisation: a clipped, culled, snapped piece of one
@@ -39,9 +40,20 @@ struct RasterTri {
   float bary[3][2];                 // barycentrics (b1, b2) of each vertex in the drawn triangle
 };
 
+// Sample positions within a pixel, in 1/256 pixel relative to its centre (y
+// up). One sample at the centre without multisampling; the standard D3D/Vulkan
+// patterns for 2, 4 and 8 samples (see samplePattern()).
+constexpr int kMaxSamples = 8;
+struct SamplePattern {
+  int32_t count = 1;
+  int32_t ox[kMaxSamples] = {0}, oy[kMaxSamples] = {0};
+  int32_t minX = 0, maxX = 0, minY = 0, maxY = 0;  // extent of the offsets
+};
+
 // Values that change per frame but not per element, passed by value to kernels.
 struct Viewport {
   int32_t width, height;
+  SamplePattern samples;
 };
 
 }  // namespace rast

@@ -85,13 +85,16 @@ struct FineRaster {
   BinGeometry g;
   int32_t width, height;
   uint32_t capacity;
+  SamplePattern samples;
+  int scratchLevel;
 
   KOKKOS_INLINE_FUNCTION void operator()(const Member& m) const {
     const uint32_t tile = uint32_t(m.league_rank());
     const int32_t tx0 = int32_t(tile % uint32_t(g.tilesX)) * kTileSize;
     const int32_t ty0 = int32_t(tile / uint32_t(g.tilesX)) * kTileSize;
-    ScratchKeys depth(m.team_scratch(0), kTilePixels);
-    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, kTilePixels), [&](const int p) { depth(p) = kClearKey; });
+    const int S = samples.count;
+    ScratchKeys depth(m.team_scratch(scratchLevel), kTilePixels * S);
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, kTilePixels * S), [&](const int p) { depth(p) = kClearKey; });
     m.team_barrier();
 
     const uint32_t total = counters(kRasterWork) < capacity ? counters(kRasterWork) : capacity;
@@ -104,7 +107,23 @@ struct FineRaster {
       const int32_t x0 = imax(t.minX, tx0), x1 = imin(t.maxX, tx0 + kTileSize - 1);
       const int32_t y0 = imax(t.minY, ty0), y1 = imin(t.maxY, ty0 + kTileSize - 1);
       const Edges e(t);
-      if (nThreads == 1) {
+      if (S > 1) {
+        // Multisampling: each sample of a pixel follows the rules at its position.
+        for (int p = me; p < kTilePixels; p += nThreads) {
+          const int32_t x = tx0 + (p & (kTileSize - 1)), y = ty0 + (p >> kTileShift);
+          if (x < x0 || x > x1 || y < y0 || y > y1) continue;
+          const int64_t c0 = e.eval(0, x, y), c1 = e.eval(1, x, y), c2 = e.eval(2, x, y);
+          for (int s = 0; s < S; ++s) {
+            const int64_t e0 = e.atSample(0, c0, samples.ox[s], samples.oy[s]);
+            const int64_t e1 = e.atSample(1, c1, samples.ox[s], samples.oy[s]);
+            const int64_t e2 = e.atSample(2, c2, samples.ox[s], samples.oy[s]);
+            if (e.inside(e0, e1, e2)) {
+              const uint64_t key = visKey(depthAt(t, e0, e1, e2), i);
+              if (key < depth(p * S + s)) depth(p * S + s) = key;
+            }
+          }
+        }
+      } else if (nThreads == 1) {
         // One thread (host backends): walk the rectangle with incremental edges.
         for (int32_t y = y0; y <= y1; ++y) {
           int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
@@ -132,9 +151,10 @@ struct FineRaster {
       }
     }
     m.team_barrier();
-    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, kTilePixels), [&](const int p) {
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, kTilePixels * S), [&](const int q) {
+      const int p = q / S;
       const int32_t x = tx0 + (p & (kTileSize - 1)), y = ty0 + (p >> kTileShift);
-      if (x < width && y < height) vis(int64_t(y) * width + x) = depth(p);
+      if (x < width && y < height) vis((int64_t(y) * width + x) * S + q % S) = depth(q);
     });
   }
 };
@@ -182,11 +202,14 @@ void rasterBinned(FrameBuffers& f) {
 #else
   const int teamSize = 1;
 #endif
-  const size_t scratch = ScratchKeys::shmem_size(kTilePixels);
+  // The tile's keys live in team scratch; with many samples they outgrow fast
+  // on-chip memory (level 0) and go to level 1 (global, still private to the team).
+  const size_t scratch = ScratchKeys::shmem_size(size_t(kTilePixels) * f.vp.samples.count);
+  const int level = scratch <= 32 * 1024 ? 0 : 1;
   Kokkos::parallel_for("rast::raster::binned::fine",
-                       TeamPolicy(int(g.numTiles()), teamSize).set_scratch_size(0, Kokkos::PerTeam(scratch)),
+                       TeamPolicy(int(g.numTiles()), teamSize).set_scratch_size(level, Kokkos::PerTeam(scratch)),
                        FineRaster{f.tris, f.tileStart, f.work, f.counters, f.vis, g, f.vp.width, f.vp.height,
-                                  f.workCapacity});
+                                  f.workCapacity, f.vp.samples, level});
 }
 
 }  // namespace rast

@@ -66,11 +66,13 @@ KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, 
     lx = t.x[i] < lx ? t.x[i] : lx; hx = t.x[i] > hx ? t.x[i] : hx;
     ly = t.y[i] < ly ? t.y[i] : ly; hy = t.y[i] > hy ? t.y[i] : hy;
   }
-  // Pixels whose centres x*256+128 lie inside [lx, hx].
-  t.minX = floorDiv(lx - kSubHalf + kSubOne - 1, kSubOne);
-  t.maxX = floorDiv(hx - kSubHalf, kSubOne);
-  t.minY = floorDiv(ly - kSubHalf + kSubOne - 1, kSubOne);
-  t.maxY = floorDiv(hy - kSubHalf, kSubOne);
+  // Pixels with a sample point x*256 + 128 + offset inside [lx, hx] (for a
+  // single sample: the pixel centres inside the box).
+  const SamplePattern& sp = vp.samples;
+  t.minX = floorDiv(lx - kSubHalf - sp.maxX + kSubOne - 1, kSubOne);
+  t.maxX = floorDiv(hx - kSubHalf - sp.minX, kSubOne);
+  t.minY = floorDiv(ly - kSubHalf - sp.maxY + kSubOne - 1, kSubOne);
+  t.maxY = floorDiv(hy - kSubHalf - sp.minY, kSubOne);
   t.minX = t.minX < 0 ? 0 : t.minX;
   t.minY = t.minY < 0 ? 0 : t.minY;
   t.maxX = t.maxX > vp.width - 1 ? vp.width - 1 : t.maxX;
@@ -103,6 +105,10 @@ struct Edges {
     }
   }
   KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const { return A[i] * X + B[i] * Y + C[i]; }
+  // Edge value at a sample offset (ox, oy) in 1/256 pixel from the pixel centre.
+  KOKKOS_INLINE_FUNCTION int64_t atSample(int i, int64_t centre, int32_t ox, int32_t oy) const {
+    return centre + (A[i] / kSubOne) * ox + (B[i] / kSubOne) * oy;
+  }
   KOKKOS_INLINE_FUNCTION bool inside(int64_t e0, int64_t e1, int64_t e2) const {
     return e0 + bias[0] > 0 && e1 + bias[1] > 0 && e2 + bias[2] > 0;
   }
@@ -126,8 +132,30 @@ constexpr uint64_t kClearKey = uint64_t(0x3f800000u) << 32;  // depth 1.0, no tr
 // Depth-tests raster triangle `index` against the visibility buffer over the
 // pixel rectangle [x0, x1] x [y0, y1] (inside the triangle's bounding box).
 // Edge values step incrementally along a row: exact, since they are integers.
+// With several samples per pixel the buffer holds `count` keys per pixel, and
+// each sample follows the same rules at its own position.
 KOKKOS_INLINE_FUNCTION void rasterRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0, int32_t x1,
-                                       int32_t y0, int32_t y1, uint64_t* vis, int32_t width) {
+                                       int32_t y0, int32_t y1, uint64_t* vis, int32_t width, const SamplePattern& sp) {
+  if (sp.count > 1) {
+    for (int32_t y = y0; y <= y1; ++y) {
+      int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
+      for (int32_t x = x0; x <= x1; ++x) {
+        uint64_t* px = vis + (int64_t(y) * width + x) * sp.count;
+        for (int s = 0; s < sp.count; ++s) {
+          const int64_t s0 = e.atSample(0, e0, sp.ox[s], sp.oy[s]), s1 = e.atSample(1, e1, sp.ox[s], sp.oy[s]),
+                        s2 = e.atSample(2, e2, sp.ox[s], sp.oy[s]);
+          if (e.inside(s0, s1, s2)) {
+            const uint64_t key = visKey(depthAt(t, s0, s1, s2), index);
+            if (key < px[s]) Kokkos::atomic_fetch_min(&px[s], key);
+          }
+        }
+        e0 += e.A[0];
+        e1 += e.A[1];
+        e2 += e.A[2];
+      }
+    }
+    return;
+  }
   for (int32_t y = y0; y <= y1; ++y) {
     int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
     uint64_t* row = vis + int64_t(y) * width;

@@ -14,11 +14,12 @@ struct NaiveRaster {
   DView<uint64_t> vis;
   int32_t width;
   uint32_t capacity;
+  SamplePattern samples;
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i) const {
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     if (i >= n) return;
     const RasterTri& t = tris(i);
-    rasterRect(t, Edges(t), i, t.minX, t.maxX, t.minY, t.maxY, vis.data(), width);
+    rasterRect(t, Edges(t), i, t.minX, t.maxX, t.minY, t.maxY, vis.data(), width, samples);
   }
 };
 
@@ -27,12 +28,12 @@ struct NaiveRaster {
 void rasterNaive(FrameBuffers& f) {
   // One work item per triangle slot; slots past the device-side count return at once.
   Kokkos::parallel_for("rast::raster::naive", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, f.triCapacity),
-                       NaiveRaster{f.tris, f.counters, f.vis, f.vp.width, f.triCapacity});
+                       NaiveRaster{f.tris, f.counters, f.vis, f.vp.width, f.triCapacity, f.vp.samples});
 }
 
 void clearVisibility(FrameBuffers& f) {
   auto vis = f.vis;
-  Kokkos::parallel_for("rast::raster::clear", Range(0, int64_t(f.vp.width) * f.vp.height),
+  Kokkos::parallel_for("rast::raster::clear", Range(0, int64_t(f.vp.width) * f.vp.height * f.vp.samples.count),
                        KOKKOS_LAMBDA(const int64_t i) { vis(i) = kClearKey; });
 }
 

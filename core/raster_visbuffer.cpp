@@ -37,6 +37,7 @@ struct RasterBlocks {
   DView<uint64_t> vis;
   int32_t width;
   uint32_t numTriSlots, stride;
+  SamplePattern samples;
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t thread) const {
     const uint32_t total = counters(kRasterWork);
     for (uint32_t w = thread; w < total; w += stride) {
@@ -49,7 +50,7 @@ struct RasterBlocks {
       const int32_t by = (t.minY >> kBlockShift) + int32_t(local / bw);
       const int32_t x0 = imax(t.minX, bx << kBlockShift), x1 = imin(t.maxX, ((bx + 1) << kBlockShift) - 1);
       const int32_t y0 = imax(t.minY, by << kBlockShift), y1 = imin(t.maxY, ((by + 1) << kBlockShift) - 1);
-      rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width);
+      rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
     }
   }
 };
@@ -64,7 +65,7 @@ void rasterVisBuffer(FrameBuffers& f) {
   scanExclusive("rast::raster::visbuffer::scan", f.workOffset, f.triCapacity, f.counters, kRasterWork);
   const uint32_t threads = persistentThreads();
   Kokkos::parallel_for("rast::raster::visbuffer::blocks", Policy(0, threads),
-                       RasterBlocks{f.tris, f.counters, f.workOffset, f.vis, f.vp.width, f.triCapacity, threads});
+                       RasterBlocks{f.tris, f.counters, f.workOffset, f.vis, f.vp.width, f.triCapacity, threads, f.vp.samples});
 }
 
 }  // namespace rast

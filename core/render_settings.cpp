@@ -26,13 +26,15 @@ const std::pair<const char*, ShadingMode> kShading[] = {{"lambert", ShadingMode:
                                                         {"blinn-phong", ShadingMode::BlinnPhong},
                                                         {"normals", ShadingMode::Normals},
                                                         {"depth", ShadingMode::Depth},
-                                                        {"uv", ShadingMode::TexCoord}};
+                                                        {"uv", ShadingMode::TexCoord},
+                                                        {"miplevel", ShadingMode::MipLevel}};
 const std::pair<const char*, RasterMethod> kRaster[] = {
     {"auto", RasterMethod::Auto},
     {"naive", RasterMethod::Naive},
     {"visbuffer", RasterMethod::VisBuffer},
     {"binned", RasterMethod::Binned}};
-const std::pair<const char*, TexFilter> kFilter[] = {{"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}};
+const std::pair<const char*, TexFilter> kFilter[] = {
+    {"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}, {"trilinear", TexFilter::Trilinear}};
 const std::pair<const char*, CullMode> kCull[] = {{"none", CullMode::None}, {"back", CullMode::Back}};
 
 }  // namespace
@@ -45,6 +47,24 @@ ShadingMode parseShading(const std::string& s) { return parseEnum(s, kShading, "
 RasterMethod parseRaster(const std::string& s) { return parseEnum(s, kRaster, "raster method"); }
 TexFilter parseFilter(const std::string& s) { return parseEnum(s, kFilter, "filter"); }
 CullMode parseCull(const std::string& s) { return parseEnum(s, kCull, "cull mode"); }
+
+void parseAA(const std::string& s, RenderSettings& rs) {
+  rs.msaa = rs.ssaa = 1;
+  if (s == "none") return;
+  if (s == "ssaa2") rs.ssaa = 2;
+  else if (s == "ssaa4") rs.ssaa = 4;
+  else if (s == "msaa2") rs.msaa = 2;
+  else if (s == "msaa4") rs.msaa = 4;
+  else if (s == "msaa8") rs.msaa = 8;
+  else throw Error("unknown anti-aliasing '" + s + "' (expected none|ssaa2|ssaa4|msaa2|msaa4|msaa8)");
+}
+
+std::string aaName(const RenderSettings& rs) {
+  if (rs.reference) return "reference";
+  if (rs.ssaa > 1) return "ssaa" + std::to_string(rs.ssaa);
+  if (rs.msaa > 1) return "msaa" + std::to_string(rs.msaa);
+  return "none";
+}
 
 std::vector<RasterMethod> allRasterMethods() {
   std::vector<RasterMethod> out;

@@ -10,8 +10,8 @@
 namespace rast {
 
 enum class CullMode { None, Back };
-enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord };
-enum class TexFilter { Nearest, Bilinear };
+enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel };
+enum class TexFilter { Nearest, Bilinear, Trilinear };
 enum class RasterMethod { Auto, Naive, VisBuffer, Binned };
 
 struct DirectionalLight {
@@ -36,7 +36,21 @@ struct RenderSettings {
   float specular = 0.35f, shininess = 32.0f;  // Blinn-Phong only
   float4 background{0.0f, 0.0f, 0.0f, 1.0f};  // linear
   bool wantDepth = false, wantPrimId = false, wantNormals = false;
+  // Anti-aliasing. msaa: samples per pixel for coverage and depth (1, 2, 4, 8),
+  // shaded once per pixel per covered triangle. ssaa: k x k shaded samples per
+  // pixel (1, 2, 4). reference: 16x16 stratified samples with bilinear
+  // texturing, the slow ground truth (see docs/quality.md).
+  int msaa = 1;
+  int ssaa = 1;
+  bool reference = false;
+  int referenceGrid = 16;    // samples per pixel side in reference mode
+  uint32_t referenceSeed = 1;
+  bool perspectiveCorrect = true;  // false: affine (screen-space) interpolation, for comparison
 };
+
+// "none", "ssaa2", "ssaa4", "msaa2", "msaa4", "msaa8" -> rs.msaa / rs.ssaa.
+void parseAA(const std::string& s, RenderSettings& rs);
+std::string aaName(const RenderSettings& rs);
 
 const char* toString(ShadingMode m);
 const char* toString(RasterMethod m);

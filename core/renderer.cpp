@@ -4,13 +4,16 @@
 #include "raster_common.h"
 #include "texture_sampling.h"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
 
 namespace rast {
 
 size_t FrameBuffers::bytes() const {
   return viewBytes(mvp) + viewBytes(clip) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(triOffset) +
-         viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(tileStart) + viewBytes(counters) + viewBytes(vis) +
+         viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal);
 }
 
@@ -23,7 +26,34 @@ uint32_t persistentThreads() {
 #endif
 }
 
-Renderer::Renderer(const Scene& scene) : scene_(DeviceScene::upload(scene)) {
+SamplePattern samplePattern(int count) {
+  // D3D / Vulkan standard multisample positions in 1/16 pixel (y down there;
+  // negated for our y-up window space), scaled to 1/256 pixel.
+  static const int p2[2][2] = {{4, 4}, {-4, -4}};
+  static const int p4[4][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
+  static const int p8[8][2] = {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
+  SamplePattern sp;
+  const int(*src)[2] = nullptr;
+  switch (count) {
+    case 1: return sp;
+    case 2: src = p2; break;
+    case 4: src = p4; break;
+    case 8: src = p8; break;
+    default: throw Error("MSAA supports 1, 2, 4 or 8 samples, not " + std::to_string(count));
+  }
+  sp.count = count;
+  for (int s = 0; s < count; ++s) {
+    sp.ox[s] = src[s][0] * (kSubOne / 16);
+    sp.oy[s] = -src[s][1] * (kSubOne / 16);
+    sp.minX = s ? std::min(sp.minX, sp.ox[s]) : sp.ox[s];
+    sp.maxX = s ? std::max(sp.maxX, sp.ox[s]) : sp.ox[s];
+    sp.minY = s ? std::min(sp.minY, sp.oy[s]) : sp.oy[s];
+    sp.maxY = s ? std::max(sp.maxY, sp.oy[s]) : sp.oy[s];
+  }
+  return sp;
+}
+
+Renderer::Renderer(const Scene& scene) : scene_(DeviceScene::upload(scene)), hostTextures_(scene.textures) {
   frame_.counters = DView<uint32_t>("frame.counters", kNumCounters);
   // Most triangles yield at most one raster triangle; clipping can yield more,
   // and then the buffer grows after the first frame that needs it.
@@ -49,15 +79,19 @@ void Renderer::prepare(const RenderSettings& rs) {
     throw Error("image size " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " is outside 1.." +
                 std::to_string(kMaxFramebufferSide) + " per side");
   const size_t n = size_t(rs.width) * size_t(rs.height);
-  if (frame_.vp.width != rs.width || frame_.vp.height != rs.height) {
-    frame_.vp = Viewport{rs.width, rs.height};
+  if (frame_.vp.width != rs.width || frame_.vp.height != rs.height || frame_.vp.samples.count != rs.msaa) {
+    frame_.vp = Viewport{rs.width, rs.height, samplePattern(rs.msaa)};
     // Exact size: a smaller frame releases the larger buffers.
-    frame_.vis = allocUninit<uint64_t>("frame.vis", n);
+    frame_.vis = allocUninit<uint64_t>("frame.vis", n * size_t(rs.msaa));
     frame_.color = allocUninit<uint32_t>("frame.color", n);
     frame_.depth = DView<float>();
     frame_.primId = DView<uint32_t>();
     frame_.normal = DView<float3>();
+    frame_.accum = DView<float4>();
   }
+  // Mipmaps are built the first time a frame needs them.
+  const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel;
+  if (wantMips && scene_.hasTextures && !scene_.hasMipmaps) scene_.uploadTextures(hostTextures_, true);
   if (rs.lights != uploadedLights_ || !lights_.data()) {
     std::vector<LightGPU> l;
     for (const DirectionalLight& d : rs.lights) l.push_back({normalize(d.direction), d.intensity});
@@ -75,8 +109,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   const glm::dmat4 vpD = cam.viewProjection(rs.width, rs.height);
   mat4d vp;
   for (int k = 0; k < 16; ++k) vp.m[k] = glm::value_ptr(vpD)[k];
-  const bool lit = rs.shading == ShadingMode::Lambert || rs.shading == ShadingMode::BlinnPhong;
-  const bool needWorld = lit || rs.shading == ShadingMode::Normals || rs.wantNormals;
+  const bool needWorld = !(rs.shading == ShadingMode::Depth || rs.shading == ShadingMode::TexCoord) || rs.wantNormals;
   lastMethod_ = resolveMethod(rs);
   lastAuto_ = rs.raster == RasterMethod::Auto;
 
@@ -125,6 +158,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   sp.wantDepth = rs.wantDepth;
   sp.wantPrimId = rs.wantPrimId;
   sp.wantNormals = rs.wantNormals;
+  sp.perspective = rs.perspectiveCorrect ? 1 : 0;
   Kokkos::Profiling::pushRegion("rast::shade");
   shadeStage(scene_, frame_, sp, lights_);
   Kokkos::Profiling::popRegion();
@@ -163,6 +197,7 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
 }
 
 FrameStats Renderer::render(const Camera& cam, const RenderSettings& rs) {
+  if (rs.ssaa > 1 || rs.reference) return renderSupersampled(cam, rs);
   FrameStats st;
   for (int attempt = 1;; ++attempt) {
     enqueue(cam, rs);
@@ -173,6 +208,49 @@ FrameStats Renderer::render(const Camera& cam, const RenderSettings& rs) {
     // Counters are deterministic, so the second attempt always fits.
     if (attempt >= 3) throw Error("internal: frame buffers did not converge");
   }
+}
+
+FrameStats Renderer::renderSupersampled(const Camera& cam, const RenderSettings& rs) {
+  // Sub-pixel sample offsets (in pixels from the centre): the centres of a k x k
+  // grid for SSAA; one random point in each cell of a 16 x 16 grid (stratified,
+  // fixed seed) for the reference.
+  std::vector<std::pair<double, double>> offsets;
+  const int k = rs.reference ? rs.referenceGrid : rs.ssaa;
+  if (rs.ssaa != 1 && rs.ssaa != 2 && rs.ssaa != 4 && !rs.reference) throw Error("SSAA supports 2x2 or 4x4");
+  if (k < 1 || k > 64) throw Error("reference grid must be 1..64 samples per side");
+  uint64_t rng = 0x9e3779b97f4a7c15ull * (rs.referenceSeed + 1);
+  auto uniform = [&rng]() {  // splitmix64: the same sequence on every machine
+    uint64_t z = (rng += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return double((z ^ (z >> 31)) >> 11) / double(1ull << 53);
+  };
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      const double ri = rs.reference ? uniform() : 0.5, rj = rs.reference ? uniform() : 0.5;
+      offsets.emplace_back((i + ri) / k - 0.5, (j + rj) / k - 0.5);
+    }
+  RenderSettings one = rs;
+  one.ssaa = 1;
+  one.msaa = 1;
+  one.reference = false;
+  if (rs.reference) one.filter = TexFilter::Bilinear;  // 256 bilinear taps integrate the footprint
+  const bool raw = rs.shading == ShadingMode::Normals || rs.shading == ShadingMode::TexCoord ||
+                   rs.shading == ShadingMode::MipLevel;
+  const glm::dmat4 vp = cam.viewProjection(rs.width, rs.height);
+  FrameStats st;
+  for (size_t p = 0; p < offsets.size(); ++p) {
+    // Sampling at +offset is drawing the scene shifted by -offset.
+    Camera c = cam;
+    const glm::dvec3 shift(-2.0 * offsets[p].first / rs.width, -2.0 * offsets[p].second / rs.height, 0.0);
+    c.viewProjOverride = glm::translate(glm::dmat4(1.0), shift) * vp;
+    if (p > 0) one.wantDepth = one.wantPrimId = one.wantNormals = false;  // outputs of the first pass
+    st = render(c, one);
+    accumulateColor(scene_, frame_, raw, p == 0);
+  }
+  resolveAccumulated(scene_, frame_, int(offsets.size()), raw);
+  Exec().fence();
+  return st;
 }
 
 template <class T>

@@ -58,8 +58,10 @@ class Renderer {
 
  private:
   void prepare(const RenderSettings& rs);
+  FrameStats renderSupersampled(const Camera& cam, const RenderSettings& rs);
 
   DeviceScene scene_;
+  std::vector<Texture> hostTextures_;  // kept to build mipmaps when first needed
   FrameBuffers frame_;
   DView<LightGPU> lights_;
   std::vector<DirectionalLight> uploadedLights_;

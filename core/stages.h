@@ -49,8 +49,17 @@ struct ShadeParams {
   float znear, zfar;  // for the depth visualisation
   int32_t headlight;  // 1: one light at the eye, per fragment
   int32_t wantDepth, wantPrimId, wantNormals;
+  int32_t perspective;  // 0: affine interpolation (for comparison only)
 };
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
+
+// Supersampling by accumulation: add the frame's colour (decoded to linear
+// light, or raw for the diagnostic modes) into f.accum, then average and encode.
+void accumulateColor(const DeviceScene& s, FrameBuffers& f, bool raw, bool first);
+void resolveAccumulated(const DeviceScene& s, FrameBuffers& f, int passes, bool raw);
+
+// The standard D3D/Vulkan sample positions for 1, 2, 4 or 8 samples (y up).
+SamplePattern samplePattern(int count);
 
 }  // namespace rast

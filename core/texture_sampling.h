@@ -62,6 +62,42 @@ KOKKOS_INLINE_FUNCTION float4 sampleBilinear(const TextureGPU& t, const Texels& 
   return (c00 * ((1.0f - a) * (1.0f - b)) + c10 * (a * (1.0f - b))) + (c01 * ((1.0f - a) * b) + c11 * (a * b));
 }
 
+// Mipmap level k of a texture, as a texture of its own (levels follow each
+// other in the texel buffer, each half the size of the previous, at least 1).
+KOKKOS_INLINE_FUNCTION TextureGPU mipLevel(const TextureGPU& t, int k) {
+  TextureGPU l = t;
+  for (int i = 0; i < k; ++i) {
+    l.offset += uint32_t(l.width) * uint32_t(l.height);
+    l.width = l.width > 1 ? l.width / 2 : 1;
+    l.height = l.height > 1 ? l.height / 2 : 1;
+  }
+  return l;
+}
+
+// Level of detail from the screen-space derivatives of the texture coordinates
+// (OpenGL 4.6 section 8.14: lambda = log2 of the larger footprint side, in texels).
+KOKKOS_INLINE_FUNCTION float textureLod(float dudx, float dvdx, float dudy, float dvdy, int32_t w, int32_t h) {
+  const float ax = dudx * float(w), bx = dvdx * float(h), ay = dudy * float(w), by = dvdy * float(h);
+  const float rx = ax * ax + bx * bx, ry = ay * ay + by * by;
+  const float rho2 = rx > ry ? rx : ry;
+  if (!(rho2 > 0.0f)) return 0.0f;
+  return 0.5f * ::log2f(rho2);
+}
+
+// Trilinear filtering: bilinear in the two levels around lod, blended.
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleTrilinear(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
+                                              float lod) {
+  const float maxLod = float(t.levels - 1);
+  lod = lod < 0.0f ? 0.0f : (lod > maxLod ? maxLod : lod);
+  const int k = int(::floorf(lod));
+  const float f = lod - float(k);
+  const float4 a = sampleBilinear(mipLevel(t, k), texels, lut, u, v);
+  if (f <= 0.0f || k + 1 >= t.levels) return a;
+  const float4 b = sampleBilinear(mipLevel(t, k + 1), texels, lut, u, v);
+  return a * (1.0f - f) + b * f;
+}
+
 // Linear [0,1] -> sRGB-encoded byte by binary search over the 256 decision
 // thresholds (DeviceScene::srgbEncode, computed in double on the host): eight
 // comparisons instead of a powf, and the same bytes on every backend.

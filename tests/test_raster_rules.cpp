@@ -24,8 +24,8 @@ std::vector<int> coverageCounts(const std::vector<double>& wx, const std::vector
   for (size_t t = 0; t < idx.size(); t += 3) {
     ClipVert v[3];
     for (int k = 0; k < 3; ++k) {
-      const float3 n = windowToNdc(wx[idx[t + k]], wy[idx[t + k]], 0.0, W, H);
-      v[k].p = float4{n.x, n.y, n.z, 1.0f};
+      const rast::float3 n = windowToNdc(wx[idx[t + k]], wy[idx[t + k]], 0.0, W, H);
+      v[k].p = rast::float4{n.x, n.y, n.z, 1.0f};
       v[k].b1 = v[k].b2 = 0.0f;
     }
     RasterTri rt;
@@ -40,7 +40,7 @@ std::vector<int> coverageCounts(const std::vector<double>& wx, const std::vector
 
 Scene windowScene(const std::vector<double>& wx, const std::vector<double>& wy, const std::vector<uint32_t>& idx, int W,
                   int H) {
-  std::vector<float3> p;
+  std::vector<rast::float3> p;
   for (size_t i = 0; i < wx.size(); ++i) p.push_back(windowToNdc(wx[i], wy[i], 0.0, W, H));
   return trianglesScene(p, idx);
 }
@@ -264,7 +264,7 @@ TEST_CASE("huge coordinates do not overflow the fixed-point setup", "[raster][cl
 TEST_CASE("non-finite and degenerate triangles are dropped, the rest still drawn", "[raster][clip]") {
   const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
   const int W = 64, H = 64;
-  std::vector<float3> p = {windowToNdc(4, 4, 0, W, H),   windowToNdc(60, 4, 0, W, H), windowToNdc(32, 60, 0, W, H),
+  std::vector<rast::float3> p = {windowToNdc(4, 4, 0, W, H),   windowToNdc(60, 4, 0, W, H), windowToNdc(32, 60, 0, W, H),
                            {inf, 0, 0},                   {nan, 0, 0},                 {0, 0, 0},
                            windowToNdc(10, 10, 0, W, H), windowToNdc(20, 20, 0, W, H), windowToNdc(30, 30, 0, W, H)};
   Scene s;
@@ -272,7 +272,7 @@ TEST_CASE("non-finite and degenerate triangles are dropped, the rest still drawn
   // Positions go in unchecked here (the loader rejects non-finite files; the
   // pipeline must still survive them from procedural or streamed geometry).
   s.positions = p;
-  s.normals.assign(p.size(), float3{0, 0, 1});
+  s.normals.assign(p.size(), rast::float3{0, 0, 1});
   s.indices = {3, 4, 5, 6, 7, 8, 0, 1, 2, 0, 0, 1};
   s.prims.push_back(MeshPrim{0, uint32_t(p.size()), 0, 4, 0});
   s.draws.push_back(Draw{0, glm::dmat4(1.0)});
