@@ -96,12 +96,15 @@ struct Edges {
       A[i] = -dy * kSubOne;
       B[i] = dx * kSubOne;
       C[i] = dx * (kSubHalf - int64_t(t.y[i])) - dy * (kSubHalf - int64_t(t.x[i]));
-      // Top-left rule (y up): a pixel centre exactly on an edge belongs to the
-      // triangle only for a left edge (going down) or a top edge (horizontal,
-      // going left). The bias turns that into a plain "> 0" test; it must not
-      // enter the weights, which for a sub-pixel triangle it would skew enough
-      // to push depth past the far plane.
-      bias[i] = (dy < 0 || (dy == 0 && dx < 0)) ? 1 : 0;
+      // Top-left rule, "top" as the image is stored and shown (rows top first,
+      // as in D3D and in Mesa's llvmpipe under OpenGL): a pixel centre exactly
+      // on an edge belongs to the triangle only for a left edge (going down in
+      // our y-up window space) or a top edge of the image, which in y-up space
+      // is the horizontal edge with the interior above it (going right).
+      // The bias turns that into a plain "> 0" test; it must not enter the
+      // weights, which for a sub-pixel triangle it would skew enough to push
+      // depth past the far plane.
+      bias[i] = (dy < 0 || (dy == 0 && dx > 0)) ? 1 : 0;
     }
   }
   KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const { return A[i] * X + B[i] * Y + C[i]; }
@@ -115,9 +118,11 @@ struct Edges {
 };
 
 // Window depth at a covered pixel, from the exact (unbiased) edge values.
+// Written as z0 + l1 (z1 - z0) + l2 (z2 - z0): exact on flat triangles and
+// closer to how hardware interpolates depth than the three-term sum.
 KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t e1, int64_t e2) {
-  const float l0 = float(e1) * t.invArea, l1 = float(e2) * t.invArea, l2 = float(e0) * t.invArea;
-  return clamp01(l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2]);
+  const float l1 = float(e2) * t.invArea, l2 = float(e0) * t.invArea;
+  return clamp01(t.z[0] + (l1 * (t.z[1] - t.z[0]) + l2 * (t.z[2] - t.z[0])));
 }
 
 // The visibility key: depth in the high word (non-negative floats order like

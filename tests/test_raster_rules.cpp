@@ -67,10 +67,11 @@ void grid(int n, double x0, double y0, double x1, double y1, double jitter, uint
 }
 
 // Pixel centres inside an axis-aligned rectangle, by the top-left rule: on the
-// left and top border lines they belong to it, on the right and bottom not.
+// left border and on the border that is on top in the image (y0: window y is
+// up, images are stored top row first) they belong to it, on the others not.
 int expectedInRect(int x, int y, double x0, double y0, double x1, double y1) {
   const double cx = x + 0.5, cy = y + 0.5;
-  return (cx >= x0 && cx < x1 && cy > y0 && cy <= y1) ? 1 : 0;
+  return (cx >= x0 && cx < x1 && cy >= y0 && cy < y1) ? 1 : 0;
 }
 
 }  // namespace
@@ -128,11 +129,12 @@ TEST_CASE("the top-left rule decides pixel centres exactly on edges", "[raster][
   std::vector<double> wx = {2.5, 6.5, 6.5, 2.5}, wy = {2.5, 2.5, 6.5, 6.5};
   std::vector<uint32_t> idx = {0, 1, 2, 0, 2, 3};
   const auto count = coverageCounts(wx, wy, idx, W, H);
-  // Left edge x=2.5 included (columns 2..5), right edge x=6.5 excluded; top edge
-  // y=6.5 included (rows 3..6), bottom edge y=2.5 excluded.
+  // Left edge x=2.5 included (columns 2..5), right edge x=6.5 excluded. Window
+  // y is up and images are stored top row first, so the edge y=2.5 is the top
+  // one in the image: included (rows 2..5); y=6.5 excluded.
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      const int want = (x >= 2 && x <= 5 && y >= 3 && y <= 6) ? 1 : 0;
+      const int want = (x >= 2 && x <= 5 && y >= 2 && y <= 5) ? 1 : 0;
       INFO("pixel " << x << "," << y);
       REQUIRE(count[size_t(y) * W + x] == want);
     }
