@@ -149,7 +149,7 @@ TEST_CASE("the reference converges: about twice the samples changes it by less t
 TEST_CASE("mip level selection matches the analytic level of detail", "[quality][mip]") {
   // A 1024x1024 texture on a quad x, y in [-1, 1] (uv = (x+1)/2, (1-y)/2).
   const int W = 256, H = 256;
-  std::vector<float2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  std::vector<rast::float2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
   Scene s = trianglesScene({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {0, 1, 2, 0, 2, 3}, &uv);
   Texture tex;
   tex.width = tex.height = 1024;
@@ -211,7 +211,7 @@ TEST_CASE("mip level selection matches the analytic level of detail", "[quality]
 TEST_CASE("perspective-correct versus affine interpolation differ only in perspective", "[quality][interp]") {
   // On a plane facing the camera, w is constant and both agree; on a tilted
   // plane they do not.
-  std::vector<float2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  std::vector<rast::float2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
   Scene s = trianglesScene({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {0, 1, 2, 0, 2, 3}, &uv);
   s.textures.push_back(Texture{1, 1, {0xffffffffu}});
   s.materials[0].texture = 0;

@@ -45,13 +45,21 @@ bool fileExists(const std::string& p) {
   return ::stat(p.c_str(), &st) == 0;
 }
 
+// The data folders are compile-time paths of the build machine; an environment
+// variable of the same name wins, for running a copied build elsewhere
+// (scripts/device/run_suite.sh).
+static std::string dirSetting(const char* env, const char* compiled) {
+  const char* e = std::getenv(env);
+  return (e && *e) ? std::string(e) : std::string(compiled);
+}
+
 std::string sharedDir() {
-  const std::string d = RAST_SHARED_DIR;
+  const std::string d = dirSetting("RAST_SHARED_DIR", RAST_SHARED_DIR);
   return fileExists(d + "/models") ? d : std::string();
 }
 
 std::string assimpDir() {
-  const std::string d = RAST_ASSIMP_GLTF_DIR;
+  const std::string d = dirSetting("RAST_ASSIMP_GLTF_DIR", RAST_ASSIMP_GLTF_DIR);
   return fileExists(d) ? d : std::string();
 }
 

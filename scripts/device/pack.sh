@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Gather what a run on a separate GPU machine needs into .device/ (git-ignored),
+# so that the folder can travel next to a copy of the working tree:
+#
+#   .device/cuda/rast, .device/cuda/rast_tests   the CUDA build   (default build/cuda)
+#   .device/openmp/rast                          a CPU build, the parity reference
+#   .device/assimp/                              Debian's assimp glTF2 test models
+#   .device/shared/models/                       ../shared/models, when present
+#   .device/lib/                                 host runtime libraries the CPU build needs
+#                                                (libgomp), in case the target lacks them
+#   .device/kokkos_count.so                      Kokkos Tools launch counter (scripts/device/kokkos_count.cpp)
+#   .device/src/tests/                           golden images and CLI test scripts of the
+#                                                sources the binaries were built from
+#   .device/build.env                            where the binaries were built (test data
+#                                                paths compiled into rast_tests)
+#
+# Usage: bash scripts/device/pack.sh [--cuda-build DIR] [--cpu-build DIR]
+# Build first, e.g.:
+#   cmake --preset cuda && cmake --build build/cuda --target rast rast_tests
+#   cmake --preset openmp -B build/h-cudaref && cmake --build build/h-cudaref --target rast
+# Then run scripts/device/run_suite.sh on the GPU machine from the repository root.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cuda_build=$root/build/cuda
+cpu_build=$root/build/openmp
+assimp=${RAST_ASSIMP_GLTF_DIR:-/usr/share/assimp/models/glTF2}
+shared=${RAST_SHARED_DIR:-$root/../shared}
+while [ $# -gt 0 ]; do
+  case $1 in
+    --cuda-build) cuda_build=$(cd "$2" && pwd); shift 2 ;;
+    --cpu-build) cpu_build=$(cd "$2" && pwd); shift 2 ;;
+    *) echo "pack.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+
+for f in "$cuda_build/rast" "$cuda_build/tests/rast_tests" "$cpu_build/rast"; do
+  [ -x "$f" ] || { echo "pack.sh: $f is missing: build it first" >&2; exit 1; }
+done
+
+# Keep .device/ out of git without touching the shared .gitignore.
+exclude=$(git -C "$root" rev-parse --git-path info/exclude 2>/dev/null || true)
+if [ -n "$exclude" ]; then
+  case $exclude in /*) ;; *) exclude=$root/$exclude ;; esac
+  mkdir -p "$(dirname "$exclude")"
+  grep -qxF '/.device/' "$exclude" 2>/dev/null || echo '/.device/' >> "$exclude"
+fi
+
+dev=$root/.device
+rm -rf "$dev"
+mkdir -p "$dev/cuda" "$dev/openmp" "$dev/lib"
+cp "$cuda_build/rast" "$dev/cuda/rast"
+cp "$cuda_build/tests/rast_tests" "$dev/cuda/rast_tests"
+[ -x "$cuda_build/rast-serial" ] && cp "$cuda_build/rast-serial" "$dev/cuda/rast-serial"
+cp "$cpu_build/rast" "$dev/openmp/rast"
+# Symbols are not needed there; the carry folder has a size limit.
+strip "$dev"/cuda/* "$dev"/openmp/* 2>/dev/null || true
+
+if [ -d "$assimp" ]; then
+  cp -r "$assimp" "$dev/assimp"
+else
+  echo "pack.sh: note: $assimp absent; tests on Debian's models will skip" >&2
+fi
+if [ -d "$shared/models" ]; then
+  mkdir -p "$dev/shared"
+  cp -r "$shared/models" "$dev/shared/models"
+else
+  echo "pack.sh: note: $shared/models absent; tests on shared models will skip" >&2
+fi
+
+# Kernel-launch counter (Kokkos Tools library; run_suite.sh uses it when present).
+if command -v g++ >/dev/null; then
+  g++ -O2 -shared -fPIC -o "$dev/kokkos_count.so" "$root/scripts/device/kokkos_count.cpp" ||
+    echo "pack.sh: note: kokkos_count.so not built; no launch counts" >&2
+fi
+
+# Non-system shared libraries the binaries use (libgomp for the OpenMP build).
+for f in "$dev"/cuda/* "$dev"/openmp/*; do
+  ldd "$f" | awk '/=> \// {print $3}' | grep -E 'libgomp' || true
+done | sort -u | while read -r lib; do cp -L "$lib" "$dev/lib/"; done
+
+src_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cuda_build/CMakeCache.txt")
+shared_dir=$(sed -n 's/^RAST_SHARED_DIR:PATH=//p' "$cuda_build/CMakeCache.txt")
+# The test files of the sources the binaries were built from (golden images, the
+# parity script), so that a run elsewhere does not depend on the working tree
+# there matching the build.
+mkdir -p "$dev/src/tests"
+cp -r "$src_dir/tests/golden" "$dev/src/tests/golden"
+cp "$src_dir"/tests/*.py "$dev/src/tests/"
+{
+  echo "RAST_BUILD_SOURCE_DIR=$src_dir"
+  echo "RAST_BUILD_SHARED_DIR=$shared_dir"
+  echo "RAST_BUILD_COMMIT=${RAST_BUILD_COMMIT:-$(git -C "$src_dir" rev-parse --short HEAD 2>/dev/null || echo unknown)$(git -C "$src_dir" diff --quiet 2>/dev/null || echo +dirty)}"
+  echo "RAST_BUILD_DATE=$(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  echo "RAST_BUILD_COMPILER=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$cuda_build/CMakeCache.txt")"
+  echo "RAST_BUILD_KOKKOS=$(sed -n 's/^Kokkos_DIR:PATH=//p' "$cuda_build/CMakeCache.txt")"
+} > "$dev/build.env"
+
+echo "pack.sh: $(du -sh "$dev" | cut -f1) in $dev"
+for f in "$dev"/cuda/* "$dev"/openmp/*; do
+  if ldd "$f" | grep -q libcudart; then echo "pack.sh: warning: $f links libcudart dynamically" >&2; fi
+done

@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""rast against the hardware OpenGL rasterizer of the same GPU, side by side:
+for every scene and size, glref (../shared/tools/glref) draws the scene through
+EGL and prints its median ms/frame and camera; rast bench draws the same
+triangles with the same camera and lighting with every raster method. Writes a
+CSV and prints the ratio rast/hardware per scene (best method).
+
+  python3 scripts/device/perf_vs_gl.py --rast R --glref G --scenes DIR --out F.csv [--sizes 1920x1080,...]
+"""
+import argparse
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--rast", required=True)
+ap.add_argument("--glref", required=True)
+ap.add_argument("--models", default="", help="folder of .glb models (auto camera)")
+ap.add_argument("--stress", default="", help="folder with glref's gen_scenes.py output")
+ap.add_argument("--sizes", default="1920x1080")
+ap.add_argument("--frames", type=int, default=200)
+ap.add_argument("--out", required=True)
+ap.add_argument("--rast-label", default="rast")
+a = ap.parse_args()
+
+scenes = []  # (name, path, camera flags or None for auto)
+if a.models and os.path.isdir(a.models):
+    for m in sorted(os.listdir(a.models)):
+        if m.endswith(".glb"):
+            scenes.append((m[:-4], os.path.join(a.models, m), None))
+if a.stress and os.path.isdir(a.stress):
+    for m in ["bigtri", "tiny", "overdraw"]:
+        p = os.path.join(a.stress, m + ".glb")
+        if os.path.exists(p):
+            cam = ["--eye", "0,0,1", "--target", "0,0,0", "--up", "0,1,0", "--fovy", "45", "--near", "0.1",
+                   "--far", "10"] if m == "bigtri" else None
+            scenes.append((m, p, cam))
+scenes.append(("empty", None, None))  # rast's own frame-time floor (no glref run)
+
+rows = []
+for size in a.sizes.split(","):
+    for name, path, cam in scenes:
+        gl_ms, cam_flags = None, cam
+        if path:
+            cmd = [a.glref, path, "--size", size, "--frames", str(a.frames), "--warmup", "20", "--no-ids"]
+            cmd += cam if cam else ["--auto-camera"]
+            r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+            out = r.stdout + r.stderr
+            m = re.search(r"median_ms=([0-9.]+)", out)
+            gl_ms = float(m.group(1)) if m else None
+            cm = re.search(r"camera (?:\(auto\) )?(--eye .*)", out)
+            if cm and not cam:
+                cam_flags = cm.group(1).split()
+            if gl_ms is None:
+                print(f"glref failed on {name}: {out[-400:]}", file=sys.stderr)
+        with tempfile.TemporaryDirectory() as tmp:
+            js = os.path.join(tmp, "b.json")
+            scene_arg = [path] if path else ["builtin:degenerate"]
+            cmd = [a.rast, "bench"] + scene_arg + ["--size", size, "--frames", str(a.frames), "--warmup", "20",
+                                                   "--all-methods", "--json", js] + (cam_flags or [])
+            if not path:  # an empty frame: everything behind the camera
+                cmd += ["--eye", "0,0,-5", "--target", "0,0,-10"]
+            r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+            if r.returncode != 0:
+                print(f"rast failed on {name}: {r.stderr.strip()}", file=sys.stderr)
+                continue
+            bench = json.load(open(js))
+        best = min((b for b in bench if b["requested"] != "auto"), key=lambda b: b["total_median_ms"])
+        auto = [b for b in bench if b["requested"] == "auto"][0]
+        row = {"scene": name, "size": size, "gl_median_ms": gl_ms, "best_method": best["method"],
+               "best_ms": best["total_median_ms"], "auto_method": auto["method"], "auto_ms": auto["total_median_ms"],
+               "triangles": best["triangles_in"], "backend": best["backend"], "rast": a.rast_label}
+        for b in bench:
+            if b["requested"] != "auto":
+                row[b["method"] + "_ms"] = b["total_median_ms"]
+                for st, v in b["stages_median_ms"].items():
+                    row[f"{b['method']}_{st}_ms"] = v
+        row["ratio_best_vs_gl"] = (best["total_median_ms"] / gl_ms) if gl_ms else None
+        rows.append(row)
+        ratio = f"{row['ratio_best_vs_gl']:.3f}" if gl_ms else "-"
+        print(f"{size:>10} {name:>12} tris={row['triangles']:>8} gl={gl_ms} rast_best={best['total_median_ms']:.4f}"
+              f" ({best['method']}) auto={auto['method']} {auto['total_median_ms']:.4f} ratio={ratio}", flush=True)
+
+keys = []
+for r in rows:
+    keys += [k for k in r if k not in keys]
+with open(a.out, "w", newline="") as f:
+    w = csv.DictWriter(f, fieldnames=keys)
+    w.writeheader()
+    w.writerows(rows)
