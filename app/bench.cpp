@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 namespace rast {
 namespace {
@@ -86,6 +87,7 @@ void BenchOptions::addTo(CLI::App& app) {
   app.add_option("--json", json, "write the rows as a JSON array to this file");
   app.add_option("--csv", csv, "write the rows as CSV to this file");
   app.add_flag("--all-methods", allMethods, "bench every raster method, then auto (overrides --raster)");
+  app.add_option("--methods", methods, "comma-separated raster methods to bench, e.g. visbuffer,binned,auto");
 }
 
 int runBench(const SceneOptions& so, const BenchOptions& bo) {
@@ -98,6 +100,12 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
   Renderer r(scene);
   std::vector<RasterMethod> methods = bo.allMethods ? allRasterMethods() : std::vector<RasterMethod>{rs.raster};
   if (bo.allMethods) methods.push_back(RasterMethod::Auto);
+  if (!bo.methods.empty()) {
+    methods.clear();
+    std::stringstream ss(bo.methods);
+    std::string m;
+    while (std::getline(ss, m, ',')) methods.push_back(parseRaster(m));
+  }
   std::vector<BenchRow> rows;
   for (RasterMethod m : methods) {
     rs.raster = m;
