@@ -58,20 +58,33 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   if (!so.cameraGiven()) std::printf("rast: camera (auto) %s\n", cam.flags().c_str());
   Renderer r(scene);
   const FrameStats st = r.render(cam, rs);
-  writePng(out, rs.width, rs.height, r.colorTopDown());
-  if (rs.wantDepth) writePfm(aov.depth, rs.width, rs.height, 1, r.depthBottomUp().data());
-  if (rs.wantPrimId) {
-    const auto ids = r.primIdsBottomUp();
-    if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
-      std::vector<float> f(ids.begin(), ids.end());
-      writePfm(aov.primid, rs.width, rs.height, 1, f.data());
-    } else {
-      writeIdsBin(aov.primid, rs.width, rs.height, ids);
+  // AOVs first, the colour image last: a failed write leaves no partial set of
+  // outputs behind (the files already written are removed).
+  std::vector<std::string> written;
+  try {
+    if (rs.wantDepth) {
+      writePfm(aov.depth, rs.width, rs.height, 1, r.depthBottomUp().data());
+      written.push_back(aov.depth);
     }
-  }
-  if (rs.wantNormals) {
-    const auto n = r.normalsBottomUp();
-    writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
+    if (rs.wantPrimId) {
+      const auto ids = r.primIdsBottomUp();
+      if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
+        std::vector<float> f(ids.begin(), ids.end());
+        writePfm(aov.primid, rs.width, rs.height, 1, f.data());
+      } else {
+        writeIdsBin(aov.primid, rs.width, rs.height, ids);
+      }
+      written.push_back(aov.primid);
+    }
+    if (rs.wantNormals) {
+      const auto n = r.normalsBottomUp();
+      writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
+      written.push_back(aov.normals);
+    }
+    writePng(out, rs.width, rs.height, r.colorTopDown());
+  } catch (...) {
+    for (const std::string& f : written) std::remove(f.c_str());
+    throw;
   }
   std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s)\n", out.c_str(), rs.width, rs.height,
               st.trianglesIn, st.rasterTris, toString(st.method));
@@ -124,7 +137,10 @@ int run(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "rast: error: %s\n", e.what());
+    std::string m = e.what();
+    for (char& c : m)
+      if (c == '\n') c = ' ';
+    std::fprintf(stderr, "rast: error: %s\n", m.c_str());
     return 2;
   }
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
@@ -145,7 +161,12 @@ int run(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   // Kokkos reads its own --kokkos-* flags; everything else is ours.
-  Kokkos::initialize(argc, argv);
+  try {
+    Kokkos::initialize(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rast: error: Kokkos could not start: %s\n", e.what());
+    return 2;
+  }
   int rc = 1;
   try {
     rc = rast::run(argc, argv);

@@ -1,29 +1,458 @@
 // glTF 2.0 loading through tinygltf, with every index and range checked so that
-// a malformed file ends in one clear Error, never in a crash or a partial scene.
+// a malformed file ends in one clear Error, never in a crash, a hang or a
+// partial scene.
+//
+// Before tinygltf sees a file, loadGltf reads it whole and checks it itself:
+//  - the file is a regular, non-empty file (a FIFO would hang the reader);
+//  - the GLB container: header, chunk bounds (tinygltf 2.7 lets the BIN chunk
+//    reach 8 bytes past the end of the data);
+//  - the JSON: nesting depth (tinygltf parses `extras` recursively), syntax;
+//  - the type of every core glTF property: tinygltf silently ignores a property
+//    of the wrong type (a string `scene`, an object `primitives`, index -1, ...)
+//    where the glTF schema makes the file invalid;
+//  - extensionsRequired: a file needing an extension rast lacks is refused;
+//  - image bufferView ranges (tinygltf 2.7 reads an image's bufferView without
+//    checking it against its buffer) and that external buffers exist.
+// tinygltf then parses the same bytes; the Loader walks the model with every
+// index, count and byte range checked again.
 #include "gltf_loader.h"
 
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
+#include <stb/stb_image.h>
+
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
+#include <limits>
+#include <map>
 
 namespace rast {
 namespace {
 
+using Json = nlohmann::json;
+
+constexpr uint64_t kMaxFileBytes = 0xffffffffull;    // GLB lengths are 32-bit; so is tinygltf's API
+constexpr size_t kMaxJsonDepth = 128;                // tinygltf recurses on nested JSON (extras)
+constexpr int kMaxTextureSide = 16384;               // same limit as the image size
+constexpr size_t kMaxAccessorCount = 0xffffffffull;  // vertex indices are 32-bit
+constexpr size_t kMaxZeroAccessorCount = size_t(1) << 24;  // accessors without a bufferView (zeros + sparse)
+
+// Makes a message printable on one line: control characters become spaces.
 std::string oneLine(std::string s) {
   for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
+    if ((unsigned char)c < 0x20 || c == 0x7f) c = ' ';
   while (!s.empty() && s.back() == ' ') s.pop_back();
   return s;
 }
 
+// ---------------------------------------------------------------- file and GLB container
+
+std::vector<unsigned char> readWholeFile(const std::string& path) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw Error("'" + path + "' is a directory, not a glTF file");
+  if (!S_ISREG(st.st_mode)) throw Error("'" + path + "' is not a regular file");
+  if (st.st_size == 0) throw Error("'" + path + "' is empty, not a glTF file");
+  if (uint64_t(st.st_size) > kMaxFileBytes) throw Error("'" + path + "' is larger than 4 GiB");
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  std::vector<unsigned char> bytes(size_t(st.st_size));
+  f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
+  if (size_t(f.gcount()) != bytes.size()) throw Error("cannot read '" + path + "'");
+  return bytes;
+}
+
+// tinygltf's file reader for external buffers and images, with the checks of
+// readWholeFile: tinygltf's own sizes a directory as a huge file (bad_alloc).
+bool readFileForTinygltf(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  try {
+    *out = readWholeFile(path);
+    return true;
+  } catch (const Error& e) {
+    if (err) *err += std::string(e.what()) + "\n";
+    return false;
+  }
+}
+
+uint32_t u32le(const unsigned char* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// Checks the GLB header and chunk layout; returns the container length (the
+// bytes that belong to the GLB) and where the JSON chunk lies.
+struct GlbLayout {
+  size_t length = 0, jsonOffset = 0, jsonLength = 0;
+};
+
+GlbLayout checkGlb(const std::vector<unsigned char>& b) {
+  if (b.size() < 20) throw Error("truncated GLB: " + std::to_string(b.size()) + " bytes, less than its 20-byte header");
+  const uint32_t version = u32le(&b[4]), length = u32le(&b[8]), jsonLength = u32le(&b[12]), jsonType = u32le(&b[16]);
+  if (version != 2) throw Error("GLB container version " + std::to_string(version) + " is not 2");
+  if (length > b.size())
+    throw Error("truncated GLB: the header says " + std::to_string(length) + " bytes, the file has " +
+                std::to_string(b.size()));
+  if (length < 20 || jsonType != 0x4E4F534Au) throw Error("invalid GLB: the first chunk is not JSON");
+  if (20ull + jsonLength > length) throw Error("truncated GLB: the JSON chunk reaches past the end of the data");
+  const uint64_t rest = length - 20ull - jsonLength;
+  if (rest > 0) {
+    if (rest < 8) throw Error("truncated GLB: incomplete chunk header after the JSON chunk");
+    const uint32_t binLength = u32le(&b[20 + jsonLength]);
+    if (8ull + binLength > rest) throw Error("truncated GLB: the BIN chunk reaches past the end of the data");
+  }
+  return {length, 20, jsonLength};
+}
+
+// ---------------------------------------------------------------- JSON and glTF schema
+
+void checkJsonDepth(const char* s, size_t n) {
+  size_t depth = 0;
+  bool inString = false, escaped = false;
+  for (size_t i = 0; i < n; ++i) {
+    const char c = s[i];
+    if (inString) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '{' || c == '[') {
+      if (++depth > kMaxJsonDepth) throw Error("JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    } else if ((c == '}' || c == ']') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+Json parseJson(const char* s, size_t n) {
+  checkJsonDepth(s, n);
+  Json j;
+  try {
+    j = Json::parse(s, s + n);
+  } catch (const Json::parse_error& e) {
+    throw Error("not a glTF file: invalid JSON (syntax error at byte " + std::to_string(e.byte) + ")");
+  } catch (const Json::exception& e) {
+    throw Error("not a glTF file: invalid JSON (" + oneLine(e.what()) + ")");
+  }
+  if (!j.is_object()) throw Error("not a glTF file: the JSON root is not an object");
+  return j;
+}
+
+// The type of each property of the core glTF 2.0 schema (glTF.schema.json and
+// what it references). Extension and extras contents are not checked, except
+// that every value of an `extensions` object must be an object.
+enum class Kind {
+  Obj,       // object, checked against `sub`
+  ObjArr,    // array of objects, each checked against `sub`
+  Id,        // glTF id: integer in [0, 2^31)
+  Int,       // other integer stored as an int by tinygltf: [0, 2^31)
+  Uint,      // integer stored as a size_t by tinygltf: [0, 2^53]
+  Num,       // any number
+  Bool,
+  Str,
+  IdArr,     // array of glTF ids
+  NumArr,    // array of numbers, `len` elements when len > 0
+  StrArr,
+  IdMap,     // object whose values are glTF ids (primitive attributes)
+  IdMapArr,  // array of IdMap (morph targets)
+};
+
+struct ObjSchema;
+struct Field {
+  const char* name;
+  Kind kind;
+  bool required = false;
+  const ObjSchema* sub = nullptr;
+  int len = 0;
+};
+struct ObjSchema {
+  std::vector<Field> fields;
+};
+
+const ObjSchema& gltfSchema() {
+  using K = Kind;
+  static const ObjSchema textureInfo{{{"index", K::Id, true}, {"texCoord", K::Int}}};
+  static const ObjSchema normalTextureInfo{{{"index", K::Id, true}, {"texCoord", K::Int}, {"scale", K::Num}}};
+  static const ObjSchema occlusionTextureInfo{{{"index", K::Id, true}, {"texCoord", K::Int}, {"strength", K::Num}}};
+  static const ObjSchema pbr{{{"baseColorFactor", K::NumArr, false, nullptr, 4},
+                              {"baseColorTexture", K::Obj, false, &textureInfo},
+                              {"metallicFactor", K::Num},
+                              {"roughnessFactor", K::Num},
+                              {"metallicRoughnessTexture", K::Obj, false, &textureInfo}}};
+  static const ObjSchema material{{{"pbrMetallicRoughness", K::Obj, false, &pbr},
+                                   {"normalTexture", K::Obj, false, &normalTextureInfo},
+                                   {"occlusionTexture", K::Obj, false, &occlusionTextureInfo},
+                                   {"emissiveTexture", K::Obj, false, &textureInfo},
+                                   {"emissiveFactor", K::NumArr, false, nullptr, 3},
+                                   {"alphaMode", K::Str},
+                                   {"alphaCutoff", K::Num},
+                                   {"doubleSided", K::Bool}}};
+  static const ObjSchema primitive{{{"attributes", K::IdMap, true},
+                                    {"indices", K::Id},
+                                    {"material", K::Id},
+                                    {"mode", K::Int},
+                                    {"targets", K::IdMapArr}}};
+  static const ObjSchema mesh{{{"primitives", K::ObjArr, true, &primitive}, {"weights", K::NumArr}}};
+  static const ObjSchema node{{{"camera", K::Id},
+                               {"children", K::IdArr},
+                               {"skin", K::Id},
+                               {"matrix", K::NumArr, false, nullptr, 16},
+                               {"mesh", K::Id},
+                               {"rotation", K::NumArr, false, nullptr, 4},
+                               {"scale", K::NumArr, false, nullptr, 3},
+                               {"translation", K::NumArr, false, nullptr, 3},
+                               {"weights", K::NumArr}}};
+  static const ObjSchema scene{{{"nodes", K::IdArr}}};
+  static const ObjSchema sparseIndices{{{"bufferView", K::Id, true}, {"byteOffset", K::Int}, {"componentType", K::Int, true}}};
+  static const ObjSchema sparseValues{{{"bufferView", K::Id, true}, {"byteOffset", K::Int}}};
+  static const ObjSchema sparse{{{"count", K::Int, true},
+                                 {"indices", K::Obj, true, &sparseIndices},
+                                 {"values", K::Obj, true, &sparseValues}}};
+  static const ObjSchema accessor{{{"bufferView", K::Id},
+                                   {"byteOffset", K::Uint},
+                                   {"componentType", K::Int, true},
+                                   {"normalized", K::Bool},
+                                   {"count", K::Uint, true},
+                                   {"type", K::Str, true},
+                                   {"max", K::NumArr},
+                                   {"min", K::NumArr},
+                                   {"sparse", K::Obj, false, &sparse}}};
+  static const ObjSchema bufferView{{{"buffer", K::Id, true},
+                                     {"byteOffset", K::Uint},
+                                     {"byteLength", K::Uint, true},
+                                     {"byteStride", K::Uint},
+                                     {"target", K::Int}}};
+  static const ObjSchema buffer{{{"uri", K::Str}, {"byteLength", K::Uint, true}}};
+  static const ObjSchema image{{{"uri", K::Str}, {"mimeType", K::Str}, {"bufferView", K::Id}}};
+  static const ObjSchema texture{{{"sampler", K::Id}, {"source", K::Id}}};
+  static const ObjSchema sampler{{{"magFilter", K::Int}, {"minFilter", K::Int}, {"wrapS", K::Int}, {"wrapT", K::Int}}};
+  static const ObjSchema skin{{{"inverseBindMatrices", K::Id}, {"skeleton", K::Id}, {"joints", K::IdArr, true}}};
+  static const ObjSchema perspective{{{"aspectRatio", K::Num}, {"yfov", K::Num, true}, {"zfar", K::Num}, {"znear", K::Num, true}}};
+  static const ObjSchema orthographic{{{"xmag", K::Num, true}, {"ymag", K::Num, true}, {"zfar", K::Num, true}, {"znear", K::Num, true}}};
+  static const ObjSchema camera{{{"type", K::Str, true},
+                                 {"perspective", K::Obj, false, &perspective},
+                                 {"orthographic", K::Obj, false, &orthographic}}};
+  static const ObjSchema channelTarget{{{"node", K::Id}, {"path", K::Str, true}}};
+  static const ObjSchema channel{{{"sampler", K::Id, true}, {"target", K::Obj, true, &channelTarget}}};
+  static const ObjSchema animSampler{{{"input", K::Id, true}, {"interpolation", K::Str}, {"output", K::Id, true}}};
+  static const ObjSchema animation{{{"channels", K::ObjArr, true, &channel}, {"samplers", K::ObjArr, true, &animSampler}}};
+  static const ObjSchema asset{{{"copyright", K::Str}, {"generator", K::Str}, {"version", K::Str, true}, {"minVersion", K::Str}}};
+  static const ObjSchema root{{{"asset", K::Obj, true, &asset},
+                               {"extensionsUsed", K::StrArr},
+                               {"extensionsRequired", K::StrArr},
+                               {"scene", K::Id},
+                               {"scenes", K::ObjArr, false, &scene},
+                               {"nodes", K::ObjArr, false, &node},
+                               {"meshes", K::ObjArr, false, &mesh},
+                               {"accessors", K::ObjArr, false, &accessor},
+                               {"bufferViews", K::ObjArr, false, &bufferView},
+                               {"buffers", K::ObjArr, false, &buffer},
+                               {"images", K::ObjArr, false, &image},
+                               {"textures", K::ObjArr, false, &texture},
+                               {"samplers", K::ObjArr, false, &sampler},
+                               {"materials", K::ObjArr, false, &material},
+                               {"skins", K::ObjArr, false, &skin},
+                               {"cameras", K::ObjArr, false, &camera},
+                               {"animations", K::ObjArr, false, &animation}}};
+  return root;
+}
+
+class SchemaChecker {
+ public:
+  void object(const Json& v, const ObjSchema& s, const std::string& where) const {
+    if (!v.is_object()) wrongType(where, "an object", v);
+    for (const Field& f : s.fields)  // wrong types first: they say more than a missing property
+      if (const auto it = v.find(f.name); it != v.end()) value(*it, f, join(where, f.name));
+    for (const Field& f : s.fields)
+      if (f.required && !v.contains(f.name)) throw Error(join(where, f.name) + ": required property is missing");
+    if (const auto it = v.find("name"); it != v.end() && !it->is_string()) wrongType(join(where, "name"), "a string", *it);
+    if (const auto it = v.find("extensions"); it != v.end()) {
+      const std::string at = join(where, "extensions");
+      if (!it->is_object()) wrongType(at, "an object", *it);
+      for (auto e = it->begin(); e != it->end(); ++e)
+        if (!e->is_object()) wrongType(at + "." + e.key(), "an object", *e);
+    }
+  }
+
+ private:
+  static std::string join(const std::string& where, const char* name) {
+    return where.empty() ? std::string(name) : where + "." + name;
+  }
+
+  static std::string describe(const Json& v) {
+    if (v.is_object()) return "an object";
+    if (v.is_array()) return "an array";
+    std::string s = v.dump(-1, ' ', true, Json::error_handler_t::replace);
+    if (s.size() > 40) s = s.substr(0, 37) + "...";
+    return s;
+  }
+
+  [[noreturn]] static void wrongType(const std::string& at, const char* expected, const Json& v) {
+    throw Error(at + ": expected " + expected + ", got " + describe(v));
+  }
+
+  static void id(const Json& v, const std::string& at) {
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > uint64_t(std::numeric_limits<int32_t>::max()))
+      wrongType(at, "an index (integer >= 0)", v);
+  }
+
+  static void int31(const Json& v, const std::string& at) {
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > uint64_t(std::numeric_limits<int32_t>::max()))
+      wrongType(at, "an integer in 0..2147483647", v);
+  }
+
+  static void uint(const Json& v, const std::string& at) {
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > (uint64_t(1) << 53))
+      wrongType(at, "an unsigned integer", v);
+  }
+
+  static void array(const Json& v, const std::string& at, int len) {
+    if (!v.is_array()) wrongType(at, "an array", v);
+    if (len > 0 && v.size() != size_t(len))
+      throw Error(at + ": expected " + std::to_string(len) + " elements, got " + std::to_string(v.size()));
+  }
+
+  static std::string item(const std::string& at, size_t i) { return at + "[" + std::to_string(i) + "]"; }
+
+  static void idMap(const Json& v, const std::string& at) {
+    if (!v.is_object()) wrongType(at, "an object", v);
+    for (auto e = v.begin(); e != v.end(); ++e) id(*e, at + "." + e.key());
+  }
+
+  void value(const Json& v, const Field& f, const std::string& at) const {
+    switch (f.kind) {
+      case Kind::Obj: object(v, *f.sub, at); break;
+      case Kind::ObjArr:
+        array(v, at, f.len);
+        for (size_t i = 0; i < v.size(); ++i) object(v[i], *f.sub, item(at, i));
+        break;
+      case Kind::Id: id(v, at); break;
+      case Kind::Int: int31(v, at); break;
+      case Kind::Uint: uint(v, at); break;
+      case Kind::Num:
+        if (!v.is_number()) wrongType(at, "a number", v);
+        break;
+      case Kind::Bool:
+        if (!v.is_boolean()) wrongType(at, "a boolean", v);
+        break;
+      case Kind::Str:
+        if (!v.is_string()) wrongType(at, "a string", v);
+        break;
+      case Kind::IdArr:
+        array(v, at, f.len);
+        for (size_t i = 0; i < v.size(); ++i) id(v[i], item(at, i));
+        break;
+      case Kind::NumArr:
+        array(v, at, f.len);
+        for (size_t i = 0; i < v.size(); ++i)
+          if (!v[i].is_number()) wrongType(item(at, i), "a number", v[i]);
+        break;
+      case Kind::StrArr:
+        array(v, at, f.len);
+        for (size_t i = 0; i < v.size(); ++i)
+          if (!v[i].is_string()) wrongType(item(at, i), "a string", v[i]);
+        break;
+      case Kind::IdMap: idMap(v, at); break;
+      case Kind::IdMapArr:
+        array(v, at, f.len);
+        for (size_t i = 0; i < v.size(); ++i) idMap(v[i], item(at, i));
+        break;
+    }
+  }
+};
+
+// Extensions rast honours when a file requires them. KHR_mesh_quantization only
+// widens the accessor component types allowed for attributes, which the
+// AccessorReader reads anyway.
+bool extensionSupported(const std::string& name) { return name == "KHR_mesh_quantization"; }
+
+std::string urlDecode(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) && std::isxdigit((unsigned char)s[i + 2])) {
+      out += char(std::stoi(s.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+// What tinygltf leaves unchecked or reports unclearly, checked on the JSON.
+void checkDocument(const Json& j, const std::string& baseDir) {
+  SchemaChecker().object(j, gltfSchema(), "");
+
+  if (const auto it = j.find("extensionsRequired"); it != j.end()) {
+    std::string missing;
+    for (const Json& e : *it)
+      if (!extensionSupported(e.get<std::string>())) missing += (missing.empty() ? "" : ", ") + e.get<std::string>();
+    if (!missing.empty()) throw Error("requires extension " + missing + ", which rast does not support");
+  }
+
+  // Images first: tinygltf 2.7 decodes an image's bufferView without checking
+  // its range. Other bufferViews are checked where an accessor reads them.
+  const Json none = Json::array();
+  const Json& buffers = j.contains("buffers") ? j["buffers"] : none;
+  const Json& views = j.contains("bufferViews") ? j["bufferViews"] : none;
+  const Json& images = j.contains("images") ? j["images"] : none;
+  for (size_t i = 0; i < images.size(); ++i) {
+    const auto bv = images[i].find("bufferView");
+    if (bv == images[i].end()) continue;
+    const std::string at = "images[" + std::to_string(i) + "].bufferView";
+    const uint64_t vi = bv->get<uint64_t>();
+    if (vi >= views.size()) throw Error(at + ": index " + std::to_string(vi) + " out of range");
+    const Json& v = views[vi];
+    const uint64_t b = v["buffer"].get<uint64_t>();
+    if (b >= buffers.size()) throw Error(at + ": buffer index " + std::to_string(b) + " out of range");
+    const uint64_t off = v.value("byteOffset", uint64_t(0)), len = v["byteLength"].get<uint64_t>();
+    const uint64_t bufLen = buffers[b]["byteLength"].get<uint64_t>();
+    if (off + len > bufLen || len > uint64_t(std::numeric_limits<int>::max()))
+      throw Error(at + ": bufferView " + std::to_string(vi) + " reaches past the end of buffer " + std::to_string(b) +
+                  " (" + std::to_string(off) + " + " + std::to_string(len) + " > " + std::to_string(bufLen) + " bytes)");
+  }
+  for (size_t i = 0; i < buffers.size(); ++i) {
+    const auto u = buffers[i].find("uri");
+    if (u == buffers[i].end()) continue;
+    const std::string uri = u->get<std::string>();
+    if (uri.rfind("data:", 0) == 0) continue;
+    const std::string decoded = urlDecode(uri);
+    const std::string file = (decoded.empty() || decoded[0] == '/' || baseDir.empty()) ? decoded : baseDir + "/" + decoded;
+    struct stat st;
+    if (::stat(file.c_str(), &st) != 0)
+      throw Error("buffers[" + std::to_string(i) + "]: file '" + uri + "' is missing (" + std::strerror(errno) + ")");
+    if (!S_ISREG(st.st_mode)) throw Error("buffers[" + std::to_string(i) + "]: '" + uri + "' is not a regular file");
+  }
+}
+
+// tinygltf's image decoder (stb_image), after a look at the header so that an
+// absurd image size is refused before anything is allocated for it.
+bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int reqWidth,
+                      int reqHeight, const unsigned char* bytes, int size, void* user) {
+  int w = 0, h = 0, comp = 0;
+  if (size > 0 && stbi_info_from_memory(bytes, size, &w, &h, &comp) && (w > kMaxTextureSide || h > kMaxTextureSide)) {
+    if (err)
+      *err += "image " + std::to_string(index) + " is " + std::to_string(w) + "x" + std::to_string(h) +
+              " texels, more than " + std::to_string(kMaxTextureSide) + " per side";
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size, user);
+}
+
+// ---------------------------------------------------------------- model walk
+
 // Reads accessor `index` as `count` rows of `comps` floats (normalized integers
 // mapped to [0,1] or [-1,1] as the spec says), honouring byteStride and sparse
-// substitution.
+// substitution. Every byte range is checked before anything is allocated or read.
 class AccessorReader {
  public:
   explicit AccessorReader(const tinygltf::Model& m) : m_(m) {}
@@ -32,9 +461,10 @@ class AccessorReader {
     const tinygltf::Accessor& a = accessor(index, what);
     if (tinygltf::GetNumComponentsInType(a.type) != comps)
       throw Error(std::string(what) + ": accessor " + std::to_string(index) + " has the wrong type");
+    checkCount(a, index, what);
+    const Span sp = a.bufferView >= 0 ? span(a, comps, what) : Span{nullptr, 0, 0};
     std::vector<float> out(a.count * comps, 0.0f);
-    if (a.bufferView >= 0) {
-      Span sp = span(a, comps, what);
+    if (sp.data) {
       for (size_t i = 0; i < a.count; ++i)
         for (int c = 0; c < comps; ++c)
           out[i * comps + c] = component(sp.data + i * sp.stride + c * sp.compSize, a.componentType, a.normalized, what);
@@ -54,16 +484,19 @@ class AccessorReader {
         a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
         a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
       throw Error("indices accessor has a component type other than u8/u16/u32");
+    checkCount(a, index, what);
+    const Span sp = a.bufferView >= 0 ? span(a, 1, what) : Span{nullptr, 0, 0};
     std::vector<uint32_t> out(a.count, 0);
-    if (a.bufferView >= 0) {
-      Span sp = span(a, 1, what);
+    if (sp.data)
       for (size_t i = 0; i < a.count; ++i) out[i] = uintAt(sp.data + i * sp.stride, a.componentType);
-    }
     applySparse(a, 1, what, [&](size_t row, const unsigned char* p, size_t) { out[row] = uintAt(p, a.componentType); });
     return out;
   }
 
-  size_t count(int index, const char* what) const { return accessor(index, what).count; }
+  // The number of components of the accessor's type (-1 when the type is unknown).
+  int components(int index, const char* what) const {
+    return tinygltf::GetNumComponentsInType(accessor(index, what).type);
+  }
 
  private:
   struct Span {
@@ -77,6 +510,13 @@ class AccessorReader {
     return m_.accessors[index];
   }
 
+  static void checkCount(const tinygltf::Accessor& a, int index, const char* what) {
+    const size_t limit = a.bufferView >= 0 ? kMaxAccessorCount : kMaxZeroAccessorCount;
+    if (a.count > limit)
+      throw Error(std::string(what) + ": accessor " + std::to_string(index) + " count " + std::to_string(a.count) +
+                  " is too large");
+  }
+
   static size_t compSizeOf(int componentType, const char* what) {
     const int s = tinygltf::GetComponentSizeInBytes(componentType);
     if (s <= 0) throw Error(std::string(what) + ": unknown component type " + std::to_string(componentType));
@@ -84,46 +524,51 @@ class AccessorReader {
   }
 
   // Bytes [offset, offset+len) of buffer view `bv`, checked against the buffer.
-  const unsigned char* viewBytes(int bv, size_t offset, size_t len, const char* what, size_t* strideOut) const {
+  const unsigned char* viewBytes(int bv, size_t offset, size_t len, const char* what) const {
     if (bv < 0 || size_t(bv) >= m_.bufferViews.size())
       throw Error(std::string(what) + ": bufferView index " + std::to_string(bv) + " out of range");
     const tinygltf::BufferView& v = m_.bufferViews[bv];
     if (v.buffer < 0 || size_t(v.buffer) >= m_.buffers.size())
       throw Error(std::string(what) + ": buffer index out of range");
     const tinygltf::Buffer& b = m_.buffers[v.buffer];
-    if (v.byteOffset + v.byteLength > b.data.size() || v.byteOffset + v.byteLength < v.byteOffset)
+    if (v.byteOffset > b.data.size() || v.byteLength > b.data.size() - v.byteOffset)
       throw Error(std::string(what) + ": bufferView " + std::to_string(bv) + " reaches past the end of its buffer");
-    if (offset + len > v.byteLength || offset + len < offset)
+    if (offset > v.byteLength || len > v.byteLength - offset)
       throw Error(std::string(what) + ": accessor reaches past the end of bufferView " + std::to_string(bv));
-    if (strideOut) *strideOut = v.byteStride;
     return b.data.data() + v.byteOffset + offset;
   }
 
   Span span(const tinygltf::Accessor& a, int comps, const char* what) const {
     const size_t cs = compSizeOf(a.componentType, what);
     const size_t elem = cs * size_t(comps);
-    const tinygltf::BufferView* bv =
-        (a.bufferView >= 0 && size_t(a.bufferView) < m_.bufferViews.size()) ? &m_.bufferViews[a.bufferView] : nullptr;
-    const size_t stride = (bv && bv->byteStride) ? bv->byteStride : elem;
-    if (stride < elem) throw Error(std::string(what) + ": byteStride smaller than the element");
+    if (a.bufferView < 0 || size_t(a.bufferView) >= m_.bufferViews.size())
+      throw Error(std::string(what) + ": bufferView index " + std::to_string(a.bufferView) + " out of range");
+    const tinygltf::BufferView& bv = m_.bufferViews[a.bufferView];
+    const size_t stride = bv.byteStride ? bv.byteStride : elem;
+    if (stride < elem || stride > 256)
+      throw Error(std::string(what) + ": byteStride " + std::to_string(stride) + " does not fit the element size");
+    // count < 2^32 and stride <= 256: no overflow in 64 bits.
     const size_t len = a.count ? stride * (a.count - 1) + elem : 0;
-    const unsigned char* p = viewBytes(a.bufferView, a.byteOffset, len, what, nullptr);
-    return {p, stride, cs};
+    return {viewBytes(a.bufferView, a.byteOffset, len, what), stride, cs};
   }
 
   template <class F>
   void applySparse(const tinygltf::Accessor& a, int comps, const char* what, F&& put) const {
     if (!a.sparse.isSparse) return;
-    const size_t n = size_t(std::max(a.sparse.count, 0));
+    if (a.sparse.count < 0 || size_t(a.sparse.count) > a.count)
+      throw Error(std::string(what) + ": sparse count " + std::to_string(a.sparse.count) + " exceeds the accessor count");
+    const size_t n = size_t(a.sparse.count);
     const int it = a.sparse.indices.componentType;
+    if (it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      throw Error(std::string(what) + ": sparse indices have a component type other than u8/u16/u32");
     const size_t is = compSizeOf(it, what);
-    const unsigned char* ip = viewBytes(a.sparse.indices.bufferView, a.sparse.indices.byteOffset, n * is, what, nullptr);
+    const unsigned char* ip = viewBytes(a.sparse.indices.bufferView, a.sparse.indices.byteOffset, n * is, what);
     const size_t cs = compSizeOf(a.componentType, what);
-    const unsigned char* vp =
-        viewBytes(a.sparse.values.bufferView, a.sparse.values.byteOffset, n * cs * comps, what, nullptr);
+    const unsigned char* vp = viewBytes(a.sparse.values.bufferView, a.sparse.values.byteOffset, n * cs * comps, what);
     for (size_t k = 0; k < n; ++k) {
       const uint32_t row = uintAt(ip + k * is, it);
-      if (row >= a.count) throw Error(std::string(what) + ": sparse index out of range");
+      if (row >= a.count) throw Error(std::string(what) + ": sparse index " + std::to_string(row) + " out of range");
       put(row, vp + k * cs * comps, cs);
     }
   }
@@ -152,6 +597,10 @@ class AccessorReader {
   const tinygltf::Model& m_;
 };
 
+bool allFinite(const std::vector<float>& v) {
+  return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+}
+
 glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
   if (n.matrix.size() == 16) return glm::make_mat4(n.matrix.data());
   glm::dmat4 t(1.0), r(1.0), s(1.0);
@@ -166,8 +615,11 @@ Texture decodeTexture(const tinygltf::Model& m, int texIndex) {
   const tinygltf::Texture& t = m.textures[texIndex];
   if (t.source < 0 || size_t(t.source) >= m.images.size()) throw Error("texture has no valid image source");
   const tinygltf::Image& im = m.images[t.source];
-  if (im.width <= 0 || im.height <= 0 || im.image.empty())
-    throw Error("texture image " + std::to_string(t.source) + " ('" + im.uri + "') could not be decoded");
+  if (im.width <= 0 || im.height <= 0 || im.image.empty()) {
+    if (!im.uri.empty() && im.uri.rfind("data:", 0) != 0)
+      throw Error("texture image " + std::to_string(t.source) + ": cannot read '" + im.uri + "'");
+    throw Error("texture image " + std::to_string(t.source) + " could not be decoded");
+  }
   const int comps = im.component, bytes = im.bits / 8;
   if (comps < 1 || comps > 4 || (bytes != 1 && bytes != 2) ||
       im.image.size() < size_t(im.width) * im.height * comps * bytes)
@@ -206,7 +658,7 @@ class Loader {
     std::vector<int> roots;
     if (!m_.scenes.empty()) {
       const int si = m_.defaultScene >= 0 ? m_.defaultScene : 0;
-      if (size_t(si) >= m_.scenes.size()) throw Error("default scene index out of range");
+      if (size_t(si) >= m_.scenes.size()) throw Error("default scene index " + std::to_string(si) + " out of range");
       roots = m_.scenes[si].nodes;
     } else {
       // No scene: draw every root node (a node nobody lists as a child).
@@ -217,8 +669,8 @@ class Loader {
       for (size_t i = 0; i < m_.nodes.size(); ++i)
         if (!isChild[i]) roots.push_back(int(i));
     }
-    onPath_.assign(m_.nodes.size(), 0);
-    for (int r : roots) visit(r, glm::dmat4(1.0));
+    state_.assign(m_.nodes.size(), 0);
+    for (int r : roots) traverse(r);
     if (s_.draws.empty()) {
       std::string why = "the scene has no triangles to draw";
       if (skipped_) why += " (" + std::to_string(skipped_) + " point/line primitives skipped: not supported yet)";
@@ -227,22 +679,49 @@ class Loader {
   }
 
  private:
-  void visit(int ni, const glm::dmat4& parent) {
-    if (ni < 0 || size_t(ni) >= m_.nodes.size()) throw Error("node index " + std::to_string(ni) + " out of range");
-    if (onPath_[ni]) throw Error("node hierarchy has a cycle through node " + std::to_string(ni));
-    onPath_[ni] = 1;
-    const tinygltf::Node& n = m_.nodes[ni];
-    const glm::dmat4 world = parent * nodeMatrix(n);
-    for (int k = 0; k < 16; ++k)
-      if (!std::isfinite(glm::value_ptr(world)[k])) throw Error("node " + std::to_string(ni) + " has a non-finite transform");
-    if (n.mesh >= 0) {
-      if (size_t(n.mesh) >= m_.meshes.size()) throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
-      for (uint32_t p : meshPrims(n.mesh)) s_.draws.push_back(Draw{p, world});
-    } else if (n.mesh < -1) {
-      throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
+  // Depth-first walk without recursion (a file may chain millions of nodes).
+  // glTF nodes form disjoint trees: a node met twice is a cycle (still on the
+  // path) or a second parent; both are errors (the latter could otherwise
+  // blow up exponentially).
+  void traverse(int root) {
+    struct Frame {
+      int node;
+      glm::dmat4 world;
+      size_t nextChild;
+    };
+    std::vector<Frame> stack;
+    auto enter = [&](int ni, const glm::dmat4& parent) {
+      if (ni < 0 || size_t(ni) >= m_.nodes.size()) throw Error("node index " + std::to_string(ni) + " out of range");
+      if (state_[ni] == 1) throw Error("node hierarchy has a cycle through node " + std::to_string(ni));
+      if (state_[ni] == 2)
+        throw Error("node " + std::to_string(ni) + " appears twice in the scene hierarchy (glTF nodes form disjoint trees)");
+      state_[ni] = 1;
+      const tinygltf::Node& n = m_.nodes[ni];
+      const glm::dmat4 world = parent * nodeMatrix(n);
+      for (int k = 0; k < 16; ++k)
+        if (!std::isfinite(glm::value_ptr(world)[k]))
+          throw Error("node " + std::to_string(ni) + " has a non-finite transform");
+      if (n.mesh >= 0) {
+        if (size_t(n.mesh) >= m_.meshes.size()) throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
+        for (uint32_t p : meshPrims(n.mesh)) s_.draws.push_back(Draw{p, world});
+      } else if (n.mesh < -1) {
+        throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
+      }
+      stack.push_back(Frame{ni, world, 0});
+    };
+    enter(root, glm::dmat4(1.0));
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      const std::vector<int>& children = m_.nodes[f.node].children;
+      if (f.nextChild < children.size()) {
+        const int c = children[f.nextChild++];
+        const glm::dmat4 world = f.world;  // enter() may reallocate the stack
+        enter(c, world);
+      } else {
+        state_[f.node] = 2;
+        stack.pop_back();
+      }
     }
-    for (int c : n.children) visit(c, world);
-    onPath_[ni] = 0;
   }
 
   // Loads the triangle primitives of a mesh once, however many nodes use it.
@@ -284,12 +763,9 @@ class Loader {
     if (nA >= 0) {
       const std::vector<float> nf = acc_.floats(nA, 3, "NORMAL");
       if (nf.size() != pf.size()) throw Error("NORMAL count differs from POSITION count");
+      if (!allFinite(nf)) throw Error("NORMAL accessor " + std::to_string(nA) + " has non-finite values");
       nrm.resize(nv);
-      for (size_t i = 0; i < nv; ++i) {
-        nrm[i] = {nf[3 * i], nf[3 * i + 1], nf[3 * i + 2]};
-        if (!isFinite(nrm[i].x) || !isFinite(nrm[i].y) || !isFinite(nrm[i].z))
-          throw Error("NORMAL accessor " + std::to_string(nA) + " has non-finite values");
-      }
+      for (size_t i = 0; i < nv; ++i) nrm[i] = {nf[3 * i], nf[3 * i + 1], nf[3 * i + 2]};
     }
 
     int32_t matIndex = -1;
@@ -307,6 +783,7 @@ class Loader {
       if (uvA < 0) throw Error("material samples TEXCOORD_" + std::to_string(texCoordSet) + " which the primitive lacks");
       const std::vector<float> uf = acc_.floats(uvA, 2, "TEXCOORD");
       if (uf.size() / 2 != nv) throw Error("TEXCOORD count differs from POSITION count");
+      if (!allFinite(uf)) throw Error("TEXCOORD accessor " + std::to_string(uvA) + " has non-finite values");
       uv.resize(nv);
       for (size_t i = 0; i < nv; ++i) uv[i] = {uf[2 * i], uf[2 * i + 1]};
     }
@@ -314,11 +791,11 @@ class Loader {
     std::vector<float4> col;
     const int cA = attr("COLOR_0");
     if (cA >= 0) {
-      const tinygltf::Accessor& a = m_.accessors.at(size_t(cA) < m_.accessors.size() ? cA : 0);
-      const int comps = tinygltf::GetNumComponentsInType(a.type);
+      const int comps = acc_.components(cA, "COLOR_0");
       if (comps != 3 && comps != 4) throw Error("COLOR_0 must be VEC3 or VEC4");
       const std::vector<float> cf = acc_.floats(cA, comps, "COLOR_0");
       if (cf.size() / comps != nv) throw Error("COLOR_0 count differs from POSITION count");
+      if (!allFinite(cf)) throw Error("COLOR_0 accessor " + std::to_string(cA) + " has non-finite values");
       col.resize(nv);
       for (size_t i = 0; i < nv; ++i)
         col[i] = {cf[comps * i], cf[comps * i + 1], cf[comps * i + 2], comps == 4 ? cf[comps * i + 3] : 1.0f};
@@ -337,7 +814,8 @@ class Loader {
       if (i >= nv)
         throw Error("index " + std::to_string(i) + " out of range: the primitive has " + std::to_string(nv) + " vertices");
 
-    // Strips and fans become lists (glTF 2.0 section 3.7.2.1).
+    // Strips and fans become lists (glTF 2.0 section 3.7.2.1). A list whose
+    // length is not a multiple of 3 loses its incomplete last triangle.
     std::vector<uint32_t> idx;
     if (mode == TINYGLTF_MODE_TRIANGLES) {
       idx.assign(seq.begin(), seq.end() - seq.size() % 3);
@@ -368,8 +846,7 @@ class Loader {
       const auto& bt = gm.pbrMetallicRoughness.baseColorTexture;
       int set = -1;
       if (bt.index >= 0) {
-        s_.textures.push_back(decodeTexture(m_, bt.index));
-        mat.texture = int32_t(s_.textures.size() - 1);
+        mat.texture = texture(bt.index);
         set = bt.texCoord;
         if (set < 0) throw Error("material texCoord set is negative");
       }
@@ -380,53 +857,75 @@ class Loader {
     return it->second.first;
   }
 
+  // Decodes a texture once, however many materials use it.
+  int32_t texture(int ti) {
+    auto it = texCache_.find(ti);
+    if (it != texCache_.end()) return it->second;
+    s_.textures.push_back(decodeTexture(m_, ti));
+    return texCache_[ti] = int32_t(s_.textures.size() - 1);
+  }
+
   const tinygltf::Model& m_;
   Scene& s_;
   AccessorReader acc_;
-  std::vector<char> onPath_;
+  std::vector<char> state_;  // per node: 0 not seen, 1 on the current path, 2 done
   std::map<int, std::vector<uint32_t>> meshCache_;
   std::map<int, std::pair<int32_t, int>> matCache_;
+  std::map<int, int32_t> texCache_;
   int skipped_ = 0;
 };
+
+Scene loadChecked(const std::string& path) {
+  const std::vector<unsigned char> bytes = readWholeFile(path);
+  const auto slash = path.find_last_of('/');
+  const std::string baseDir = slash == std::string::npos ? std::string() : path.substr(0, slash);
+
+  // Sniff the GLB magic instead of trusting the extension.
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  GlbLayout glb;
+  if (binary) glb = checkGlb(bytes);
+  const char* json = reinterpret_cast<const char*>(bytes.data()) + (binary ? glb.jsonOffset : 0);
+  const size_t jsonLength = binary ? glb.jsonLength : bytes.size();
+  checkDocument(parseJson(json, jsonLength), baseDir);
+
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(loadImageChecked, nullptr);
+  loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readFileForTinygltf,
+                         &tinygltf::WriteWholeFile, nullptr});
+  tinygltf::Model model;
+  std::string err, warn;
+  bool ok = false;
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(glb.length), baseDir)
+                : loader.LoadASCIIFromString(&model, &err, &warn, json, unsigned(jsonLength), baseDir);
+  } catch (const std::exception& e) {
+    // nlohmann::json throws on some type mismatches inside tinygltf.
+    throw Error("malformed glTF: " + oneLine(e.what()));
+  }
+  if (!ok || !err.empty()) {
+    std::string why = oneLine(err.empty() ? warn : err);
+    throw Error(why.empty() ? std::string("not a valid glTF file") : why);
+  }
+  if (model.asset.version.rfind("2.", 0) != 0)
+    throw Error("glTF version '" + model.asset.version + "' is not 2.x");
+  Scene s;
+  s.name = path;
+  Loader(model, s).run();
+  s.validate();
+  return s;
+}
 
 }  // namespace
 
 Scene loadGltf(const std::string& path) {
-  {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw Error("cannot open '" + path + "'");
-  }
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string err, warn;
-  // Sniff the GLB magic instead of trusting the extension.
-  char magic[4] = {0, 0, 0, 0};
-  {
-    std::ifstream f(path, std::ios::binary);
-    f.read(magic, 4);
-  }
-  const bool binary = std::string(magic, 4) == "glTF";
-  bool ok = false;
   try {
-    ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  } catch (const std::exception& e) {
-    // nlohmann::json throws on some type mismatches inside tinygltf.
-    throw Error("'" + path + "': malformed glTF: " + oneLine(e.what()));
-  }
-  if (!ok || !err.empty())
-    throw Error("'" + path + "': " + (err.empty() ? std::string("not a valid glTF file") : oneLine(err)));
-  if (model.asset.version.rfind("2.", 0) != 0)
-    throw Error("'" + path + "': glTF version '" + model.asset.version + "' is not 2.x");
-  Scene s;
-  s.name = path;
-  try {
-    Loader(model, s).run();
-    s.validate();
+    return loadChecked(path);
   } catch (const Error& e) {
-    throw Error("'" + path + "': " + e.what());
+    const std::string what = oneLine(e.what());
+    // Messages about the file as a whole already name it.
+    if (what.find("'" + path + "'") != std::string::npos) throw Error(what);
+    throw Error("'" + oneLine(path) + "': " + what);
   }
-  return s;
 }
 
 }  // namespace rast
