@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Bootstrap the build dependencies of the Kokkos rasterizer on Debian 12 (bookworm).
 #
-#   bash scripts/bootstrap.sh [--viewer]
+#   bash scripts/bootstrap.sh [--no-viewer]
 #
 # Idempotent: installs only the Debian packages that are missing (apt-get update only
 # when something must be installed) and builds Kokkos only when none is found.
@@ -16,7 +16,8 @@
 # cmake/RastKokkos.cmake finds without further flags.
 #
 # Options:
-#   --viewer   also install the windowed viewer's packages (GLFW, Dear ImGui, Xvfb, Mesa GL/EGL)
+#   --no-viewer  skip the windowed viewer's packages (GLFW, Dear ImGui, Xvfb, Mesa GL/EGL),
+#                which are installed by default so that the viewer is built and tested
 #   -h|--help  show this help
 set -euo pipefail
 
@@ -33,10 +34,11 @@ APT_LOCK_OPT=(-o DPkg::Lock::Timeout=600)
 log() { printf '[bootstrap] %s\n' "$*"; }
 die() { printf '[bootstrap] ERROR: %s\n' "$*" >&2; exit 1; }
 
-WITH_VIEWER=0
+WITH_VIEWER=1
 for arg in "$@"; do
   case "$arg" in
-    --viewer) WITH_VIEWER=1 ;;
+    --viewer) WITH_VIEWER=1 ;;  # the default; kept for compatibility
+    --no-viewer) WITH_VIEWER=0 ;;
     -h|--help) sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) die "unknown argument: $arg (try --help)" ;;
   esac
@@ -73,6 +75,14 @@ PACKAGES=(build-essential cmake ninja-build git pkg-config ca-certificates xz-ut
 VIEWER_PACKAGES=(libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri libegl-mesa0
                  libgl-dev libegl-dev libopengl-dev)
 [ "$WITH_VIEWER" -eq 1 ] && PACKAGES+=("${VIEWER_PACKAGES[@]}")
+# ---- glref reference renderer: tests/cli_glref_agreement.py builds ../shared/tools/glref
+# (libepoxy, EGL/OpenGL headers; tinygltf/stb/glm/json are above) and runs it on Mesa
+# llvmpipe through EGL (libegl-mesa0, libgl1-mesa-dri). See docs/glref-agreement.md.
+GLREF_PACKAGES=(libepoxy-dev libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri)
+for p in "${GLREF_PACKAGES[@]}"; do
+  case " ${PACKAGES[*]} " in *" $p "*) ;; *) PACKAGES+=("$p") ;; esac
+done
+# ---- end glref
 
 # "ii" = installed and configured; anything else (absent, half-configured, ...) is missing
 INSTALLED=" $(dpkg-query -W -f='${db:Status-Abbrev}${Package}\n' "${PACKAGES[@]}" 2>/dev/null \

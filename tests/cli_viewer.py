@@ -1,0 +1,370 @@
+#!/usr/bin/env python3
+"""rast-viewer under Xvfb + Mesa, driven by --script (docs/viewer.md):
+
+ (a) a malformed or missing scene (and a bad script) exits non-zero with rast
+     render's one-line error, before any window opens and without screenshots;
+ (b) an orbit by a known drag gives the expected camera, and the viewer's image
+     equals `rast render` at the printed camera (and, within 1/255, at the
+     camera computed here from the orbit math); resize and P work;
+ (c) each mode key changes the picture: C, L, T change the pipeline's image
+     (the default scene seen from below the ground, where culling removes the
+     ground); M changes the method in use, shown in the overlay (the raster
+     methods are bit-identical by design, so the pipeline image may not change);
+ (d) keys 2/3 report "unavailable", keep triangles and do not crash.
+
+Exit 77 (skipped) when rast-viewer or xvfb-run is missing.
+Standard library only: PNGs are read by the small decoder below."""
+import argparse
+import math
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--rast", required=True)
+ap.add_argument("--rast-serial", default="")
+ap.add_argument("--shared", default="")
+ap.add_argument("--assimp", default="")
+ap.add_argument("--workdir", required=True)
+args = ap.parse_args()
+
+viewer = os.path.join(os.path.dirname(os.path.abspath(args.rast)), "rast-viewer")
+if not os.path.exists(viewer):
+    print(f"SKIPPED: {viewer} was not built (needs libglfw3-dev libimgui-dev: bash scripts/bootstrap.sh --viewer)")
+    sys.exit(77)
+xvfb = shutil.which("xvfb-run")
+if not xvfb:
+    print("SKIPPED: xvfb-run not found (Debian package xvfb: bash scripts/bootstrap.sh --viewer)")
+    sys.exit(77)
+
+os.makedirs(args.workdir, exist_ok=True)
+W, H = 320, 240
+failures = []
+
+
+def check(cond, msg):
+    print(("ok   " if cond else "FAIL ") + msg)
+    if not cond:
+        failures.append(msg)
+
+
+# ------------------------------------------------------------------ PNG
+def read_png(path):
+    """(width, height, RGBA bytes, top row first) of an 8-bit non-interlaced PNG."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{path}: not a PNG")
+    pos, idat = 8, bytearray()
+    w = h = ch = None
+    plte = None
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            if depth != 8 or interlace:
+                raise ValueError(f"{path}: only 8-bit non-interlaced PNGs are supported")
+            ch = {0: 1, 2: 3, 3: 1, 4: 2, 6: 4}[ctype]
+            palette = ctype == 3
+            grey = ctype in (0, 4)
+        elif kind == b"PLTE":
+            plte = body
+        elif kind == b"IDAT":
+            idat += body
+        elif kind == b"IEND":
+            break
+        pos += 12 + n
+    raw = zlib.decompress(bytes(idat))
+    stride = w * ch
+    out = bytearray(h * stride)
+    prev = bytearray(stride)
+    i = 0
+    for y in range(h):
+        ft = raw[i]
+        line = bytearray(raw[i + 1:i + 1 + stride])
+        i += 1 + stride
+        if ft == 1:
+            for x in range(ch, stride):
+                line[x] = (line[x] + line[x - ch]) & 255
+        elif ft == 2:
+            for x in range(stride):
+                line[x] = (line[x] + prev[x]) & 255
+        elif ft == 3:
+            for x in range(stride):
+                left = line[x - ch] if x >= ch else 0
+                line[x] = (line[x] + ((left + prev[x]) >> 1)) & 255
+        elif ft == 4:
+            for x in range(stride):
+                a = line[x - ch] if x >= ch else 0
+                b = prev[x]
+                c = prev[x - ch] if x >= ch else 0
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                line[x] = (line[x] + pred) & 255
+        elif ft != 0:
+            raise ValueError(f"{path}: bad filter type {ft}")
+        out[y * stride:(y + 1) * stride] = line
+        prev = line
+    if ch == 4:
+        return w, h, bytes(out)
+    rgba = bytearray(w * h * 4)
+    for k in range(w * h):
+        if palette:
+            r, g, b = plte[3 * out[k]:3 * out[k] + 3]
+            a = 255
+        elif grey:
+            r = g = b = out[k * ch]
+            a = out[k * ch + 1] if ch == 2 else 255
+        else:
+            r, g, b = out[3 * k:3 * k + 3]
+            a = 255
+        rgba[4 * k:4 * k + 4] = bytes((r, g, b, a))
+    return w, h, bytes(rgba)
+
+
+def mean_abs_diff(a, b):
+    if a == b:
+        return 0.0
+    return sum(abs(x - y) for x, y in zip(a, b)) / len(a)
+
+
+def differing_pixels(a, b):
+    return sum(1 for k in range(0, len(a), 4) if a[k:k + 4] != b[k:k + 4])
+
+
+def lit_fraction(img):
+    """Fraction of pixels that are not the black background."""
+    return sum(1 for k in range(0, len(img), 4) if img[k] | img[k + 1] | img[k + 2]) / (len(img) // 4)
+
+
+# ------------------------------------------------------------------ running
+def run_viewer(tag, script, extra=(), display=True):
+    path = os.path.join(args.workdir, tag + ".script")
+    with open(path, "w") as f:
+        f.write(script)
+    cmd = [viewer, "--size", f"{W}x{H}", "--no-vsync", "--script", path] + list(extra)
+    if display:
+        cmd = [xvfb, "-a", "-s", "-screen 0 1280x800x24"] + cmd
+    env = dict(os.environ, OMP_PROC_BIND="false")
+    if not display:
+        env.pop("DISPLAY", None)
+        env.pop("WAYLAND_DISPLAY", None)
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, cwd=args.workdir, env=env)
+    with open(os.path.join(args.workdir, tag + ".log"), "w") as f:
+        f.write(f"$ {' '.join(cmd)}\n--- stdout\n{r.stdout}\n--- stderr\n{r.stderr}\nrc={r.returncode}\n")
+    return r
+
+
+def rast_render(out, flags):
+    cmd = [args.rast, "render", "--size", f"{W}x{H}", "-o", out] + flags
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=dict(os.environ, OMP_PROC_BIND="false"))
+    if r.returncode != 0:
+        raise SystemExit(f"FAILED: {' '.join(cmd)}: {r.stderr.strip()}")
+
+
+def wd(name):
+    return os.path.join(args.workdir, name)
+
+
+def parse_vec(s):
+    return [float(v) for v in s.split(",")]
+
+
+def camera_of(line):
+    """Camera flags ('--eye x,y,z --target ...') -> dict."""
+    t = line.split()
+    d = {t[i][2:]: t[i + 1] for i in range(0, len(t) - 1, 2) if t[i].startswith("--")}
+    return {k: (parse_vec(v) if "," in v else float(v)) for k, v in d.items()}
+
+
+def flags_of(cam):
+    f = []
+    for k in ("eye", "target", "up"):
+        f += [f"--{k}", ",".join("%.9g" % v for v in cam[k])]
+    for k in ("fovy", "near", "far"):
+        f += [f"--{k}", "%.9g" % cam[k]]
+    return f
+
+
+for old in os.listdir(args.workdir):
+    if old.endswith(".png"):
+        os.remove(wd(old))
+
+# ------------------------------------------------------------------ (a) bad input
+print("(a) malformed input: one-line error, no window")
+bad = wd("malformed.glb")
+with open(bad, "wb") as f:
+    f.write(b"glTF\x02\x00\x00\x00this is not a glTF file at all")
+bad_inputs = [bad, wd("does-not-exist.gltf")]
+if args.assimp:
+    p = os.path.join(args.assimp, "IndexOutOfRange", "IndexOutOfRange.gltf")
+    if os.path.exists(p):
+        bad_inputs.append(p)
+for scene in bad_inputs:
+    ref = subprocess.run([args.rast, "render", scene, "--size", f"{W}x{H}", "-o", wd("ref-bad.png")],
+                         capture_output=True, text=True, env=dict(os.environ, OMP_PROC_BIND="false"))
+    ref_msg = ref.stderr.strip().split("error: ", 1)[-1]
+    for display in (True, False):
+        shot, wshot = wd("bad-shot.png"), wd("bad-window.png")
+        r = run_viewer("bad", "frame\n", [scene, "--screenshot", shot, "--window-screenshot", wshot], display=display)
+        lines = r.stderr.strip().splitlines()
+        name = os.path.basename(scene) + (" (Xvfb)" if display else " (no DISPLAY)")
+        check(r.returncode != 0, f"{name}: exit status {r.returncode} != 0")
+        check(len(lines) == 1 and lines[0].startswith("rast-viewer: error: "),
+              f"{name}: one error line: {lines!r}")
+        check(bool(lines) and lines[0].split("error: ", 1)[-1] == ref_msg,
+              f"{name}: same message as rast render ({ref_msg!r})")
+        # No window: the viewer announces one when it opens; without DISPLAY a
+        # window attempt would have failed with another message.
+        check(" window" not in r.stdout, f"{name}: no window was opened")
+        check(not os.path.exists(shot) and not os.path.exists(wshot), f"{name}: no screenshot written")
+r = run_viewer("badscript", "frame\nkey C\ndrag sideways 1 2\n", [], display=False)
+check(r.returncode != 0 and r.stderr.strip().startswith("rast-viewer: error: ") and ":3:" in r.stderr
+      and len(r.stderr.strip().splitlines()) == 1, f"bad script line 3: {r.stderr.strip()!r}")
+
+# ------------------------------------------------------------------ (b) orbit
+print("(b) orbit by a known drag, compared with rast render")
+DX, DY = 120, -60  # 0.25 degree per pixel: yaw -30 degrees, pitch -15 degrees
+r = run_viewer("orbit", f"""# orbit, then compare with rast render
+frame 2
+print-camera
+drag left {DX} {DY}
+frame
+print-camera
+print-state
+screenshot orbit.png
+window-screenshot orbit-window.png
+key P
+resize 200 150
+frame
+screenshot resized.png
+""")
+check(r.returncode == 0, f"orbit script ran (rc {r.returncode}) {r.stderr.strip()[-300:]}")
+cams = [camera_of(l[len("camera: "):]) for l in r.stdout.splitlines() if l.startswith("camera: ")]
+auto = re.search(r"camera \(auto\) (.*)", r.stdout)
+check(len(cams) == 2 and auto is not None, "print-camera printed two cameras, the auto camera was announced")
+if len(cams) == 2 and auto:
+    auto_cam = camera_of(auto.group(1))
+    # The initial camera is rast render's auto-framing, exactly.
+    check(cams[0] == auto_cam, "initial camera == rast's auto-framing")
+    # Expected orbit: yaw by -DX/4 degrees around +Y, elevation by DY/4 degrees.
+    e, t = auto_cam["eye"], auto_cam["target"]
+    off = [e[k] - t[k] for k in range(3)]
+    dist = math.sqrt(sum(v * v for v in off))
+    yaw0 = math.atan2(off[0], off[2])
+    pitch0 = math.asin(off[1] / dist)
+    yaw, pitch = yaw0 - math.radians(DX * 0.25), pitch0 + math.radians(DY * 0.25)
+    exp_eye = [t[0] + dist * math.cos(pitch) * math.sin(yaw), t[1] + dist * math.sin(pitch),
+               t[2] + dist * math.cos(pitch) * math.cos(yaw)]
+    got = cams[1]
+    err = math.sqrt(sum((got["eye"][k] - exp_eye[k]) ** 2 for k in range(3)))
+    check(err < 1e-6 * dist and got["target"] == t, f"orbit camera as expected (eye error {err:.2e})")
+
+    rast_render(wd("ref-printed.png"), flags_of(got))
+    rast_render(wd("ref-expected.png"), flags_of(dict(got, eye=exp_eye)))
+    w, h, img = read_png(wd("orbit.png"))
+    check((w, h) == (W, H), f"screenshot is {w}x{h}")
+    _, _, ref = read_png(wd("ref-printed.png"))
+    _, _, ref2 = read_png(wd("ref-expected.png"))
+    d1, d2 = mean_abs_diff(img, ref), mean_abs_diff(img, ref2)
+    check(d1 < 1.0, f"viewer == rast render at the printed camera (mean abs diff {d1:.4f}, "
+                    f"{differing_pixels(img, ref)} pixels differ)")
+    check(d2 < 1.0, f"viewer ~= rast render at the computed orbit camera (mean abs diff {d2:.4f})")
+    check(lit_fraction(img) > 0.05, f"the scene is visible ({lit_fraction(img):.1%} of pixels lit)")
+ww, wh, wimg = read_png(wd("orbit-window.png")) if os.path.exists(wd("orbit-window.png")) else (0, 0, b"")
+check((ww, wh) == (W, H), "window screenshot written")
+check(os.path.exists(wd("rast-viewer-001.png")) and os.path.exists(wd("rast-viewer-001-window.png")),
+      "P saved rast-viewer-001.png and rast-viewer-001-window.png")
+if os.path.exists(wd("resized.png")):
+    rw, rh, _ = read_png(wd("resized.png"))
+    check((rw, rh) == (200, 150), f"resize 200 150 resized the framebuffers ({rw}x{rh})")
+else:
+    check(False, "resized.png written")
+
+# ------------------------------------------------------------------ (c) mode keys
+print("(c) mode keys change the picture (default scene from below the ground)")
+r = run_viewer("modes", """drag left 0 -200
+frame
+screenshot m0.png
+window-screenshot m0w.png
+print-state
+key C
+frame
+screenshot m1.png
+window-screenshot m1w.png
+print-state
+key M
+frame
+screenshot m2.png
+window-screenshot m2w.png
+print-state
+key L
+frame
+screenshot m3.png
+print-state
+key T
+frame
+screenshot m4.png
+print-state
+print-camera
+""")
+check(r.returncode == 0, f"modes script ran (rc {r.returncode}) {r.stderr.strip()[-300:]}")
+states = [l for l in r.stdout.splitlines() if l.startswith("state: ")]
+check(len(states) == 5, "five states printed")
+if len(states) == 5 and all(os.path.exists(wd(f"m{k}.png")) for k in range(5)):
+    imgs = [read_png(wd(f"m{k}.png"))[2] for k in range(5)]
+    for k, (key, what) in enumerate([("C", "--cull back"), ("M", None), ("L", "--shading blinn-phong"),
+                                     ("T", "--filter nearest")], start=1):
+        n = differing_pixels(imgs[k - 1], imgs[k])
+        if what:
+            check(what in states[k], f"key {key}: state shows {what}")
+            check(n > 0, f"key {key}: {n} pixels of the pipeline image changed")
+        else:
+            m0 = re.search(r"method=(\S+)", states[k - 1]).group(1)
+            m1 = re.search(r"method=(\S+)", states[k]).group(1)
+            check(m0 != m1, f"key M: method {m0} -> {m1}")
+            _, _, w0 = read_png(wd("m1w.png"))
+            _, _, w1 = read_png(wd("m2w.png"))
+            check(differing_pixels(w0, w1) > 0, "key M: the window (overlay's method line) changed")
+            print(f"     (pipeline image {'identical' if n == 0 else f'{n} pixels differ'} across methods)")
+    # The last image is also what rast render gives with the same settings.
+    cam = camera_of([l for l in r.stdout.splitlines() if l.startswith("camera: ")][-1][len("camera: "):])
+    st = states[-1].split()
+    flags = [st[i] for i in range(st.index("--cull"), st.index("--raster") + 2)]
+    rast_render(wd("ref-modes.png"), flags_of(cam) + flags)
+    d = mean_abs_diff(imgs[4], read_png(wd("ref-modes.png"))[2])
+    check(d < 1.0, f"after the mode keys, viewer == rast render {' '.join(flags)} (mean abs diff {d:.4f})")
+else:
+    check(False, "mode screenshots written")
+
+# ------------------------------------------------------------------ (d) 2 / 3
+print("(d) wireframe and points are reported unavailable")
+r = run_viewer("prim", """frame
+screenshot p0.png
+key 2
+frame
+key 3
+frame 2
+key 1
+screenshot p1.png
+print-state
+""")
+check(r.returncode == 0, f"prim script ran (rc {r.returncode}) {r.stderr.strip()[-300:]}")
+check("wireframe mode unavailable" in r.stdout, "key 2 reports wireframe unavailable")
+check("points mode unavailable" in r.stdout, "key 3 reports points unavailable")
+check("mode=triangles" in r.stdout, "still drawing triangles")
+if os.path.exists(wd("p0.png")) and os.path.exists(wd("p1.png")):
+    check(read_png(wd("p0.png"))[2] == read_png(wd("p1.png"))[2], "image unchanged by 2/3")
+else:
+    check(False, "prim screenshots written")
+
+if failures:
+    print(f"FAILED: {len(failures)} check(s): " + "; ".join(failures))
+    sys.exit(1)
+print("all viewer checks passed")
