@@ -37,6 +37,22 @@ KOKKOS_INLINE_FUNCTION bool finite4(const float4& p) {
   return isFinite(p.x) && isFinite(p.y) && isFinite(p.z) && isFinite(p.w);
 }
 
+// 0: nothing to draw (non-finite, or wholly outside one plane); 1: inside every
+// plane (no clipping needed, the common case); 2: needs clipping.
+KOKKOS_INLINE_FUNCTION int classifyTriangle(const float4& a, const float4& b, const float4& c, float gx, float gy) {
+  if (!finite4(a) || !finite4(b) || !finite4(c)) return 0;
+  int outAll = 0x3f, outAny = 0;
+  const float4* v[3] = {&a, &b, &c};
+  for (int i = 0; i < 3; ++i) {
+    int code = 0;
+    for (int k = 0; k < 6; ++k)
+      if (planeDistance(k, *v[i], gx, gy) < 0.0f) code |= 1 << k;
+    outAll &= code;
+    outAny |= code;
+  }
+  return outAll ? 0 : (outAny ? 2 : 1);
+}
+
 // Clips the triangle in v[0..2] in place; returns the vertex count of the
 // resulting convex polygon (0 when nothing is left, 3 when untouched).
 //

@@ -23,17 +23,22 @@ struct SetupCommon {
   float gx, gy;
   int32_t cullBack;
 
-  // Clips drawn triangle t; returns the polygon size (0: nothing to draw).
-  KOKKOS_INLINE_FUNCTION int assemble(uint32_t t, ClipVert (&poly)[kMaxClipVerts], bool& frontCCW) const {
+  // Fetches drawn triangle t's corners in clip space.
+  KOKKOS_INLINE_FUNCTION void fetch(uint32_t t, ClipVert (&v)[3], bool& frontCCW) const {
     const uint32_t d = findRange(drawTriStart, numDraws, t);
     const DrawGPU& dr = draws(d);
     const uint32_t local = t - dr.dstTri;
     const uint32_t base = 3 * (dr.srcTri + local);
-    for (int k = 0; k < 3; ++k) poly[k].p = clip(dr.dstVertex + indices(base + k));
-    poly[0].b1 = 0.0f; poly[0].b2 = 0.0f;
-    poly[1].b1 = 1.0f; poly[1].b2 = 0.0f;
-    poly[2].b1 = 0.0f; poly[2].b2 = 1.0f;
+    for (int k = 0; k < 3; ++k) v[k].p = clip(dr.dstVertex + indices(base + k));
+    v[0].b1 = 0.0f; v[0].b2 = 0.0f;
+    v[1].b1 = 1.0f; v[1].b2 = 0.0f;
+    v[2].b1 = 0.0f; v[2].b2 = 1.0f;
     frontCCW = dr.mirrored == 0;
+  }
+
+  // Clips a triangle that needs it; returns the polygon size (0: nothing left).
+  KOKKOS_INLINE_FUNCTION int clipSlow(const ClipVert (&v)[3], ClipVert (&poly)[kMaxClipVerts]) const {
+    for (int k = 0; k < 3; ++k) poly[k] = v[k];
     return clipTriangle(poly, gx, gy);
   }
 
@@ -48,11 +53,18 @@ struct CountTris {
   SetupCommon c;
   DView<uint32_t> count;
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t t) const {
-    ClipVert poly[kMaxClipVerts];
+    ClipVert v[3];
     bool frontCCW;
-    const int n = c.assemble(t, poly, frontCCW);
-    uint32_t k = 0;
+    c.fetch(t, v, frontCCW);
+    const int cls = classifyTriangle(v[0].p, v[1].p, v[2].p, c.gx, c.gy);
     RasterTri rt;
+    if (cls != 2) {  // fast path: no polygon in local memory (the result is the same)
+      count(t) = cls == 1 && setupTriangle(v[0], v[1], v[2], c.vp, c.cullBack != 0, frontCCW, t, rt) ? 1u : 0u;
+      return;
+    }
+    ClipVert poly[kMaxClipVerts];
+    const int n = c.clipSlow(v, poly);
+    uint32_t k = 0;
     for (int i = 0; i + 2 < n; ++i) k += c.fanTriangle(poly, i, frontCCW, t, rt) ? 1u : 0u;
     count(t) = k;
   }
@@ -80,10 +92,18 @@ struct WriteTris {
   DView<RasterTri> tris;
   uint32_t capacity;
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t t) const {
-    ClipVert poly[kMaxClipVerts];
+    ClipVert v[3];
     bool frontCCW;
-    const int n = c.assemble(t, poly, frontCCW);
+    c.fetch(t, v, frontCCW);
+    const int cls = classifyTriangle(v[0].p, v[1].p, v[2].p, c.gx, c.gy);
     uint32_t o = offset(t);
+    if (cls != 2) {
+      RasterTri rt;
+      if (cls == 1 && setupTriangle(v[0], v[1], v[2], c.vp, c.cullBack != 0, frontCCW, t, rt) && o < capacity) tris(o) = rt;
+      return;
+    }
+    ClipVert poly[kMaxClipVerts];
+    const int n = c.clipSlow(v, poly);
     for (int i = 0; i + 2 < n; ++i) {
       RasterTri rt;
       if (!c.fanTriangle(poly, i, frontCCW, t, rt)) continue;

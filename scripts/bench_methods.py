@@ -14,7 +14,7 @@ import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-STABILITY = ["builtin:bigtri", "builtin:tiny", "builtin:overdraw?layers=64",
+STABILITY = ["builtin:default", "builtin:bigtri", "builtin:tiny", "builtin:overdraw?layers=64",
              "builtin:overdraw?layers=64&order=front", "builtin:slivers", "builtin:nearplane",
              "builtin:degenerate", "builtin:extreme?scale=1e6", "builtin:extreme?scale=1e-6",
              "builtin:zfight"]
