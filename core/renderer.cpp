@@ -75,7 +75,9 @@ RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const {
   if (!autoStats_.valid || autoStats_.tris == 0) return kGpu ? RasterMethod::VisBuffer : RasterMethod::Binned;
   // Only small triangles: one work item per triangle walking its box is the
   // cheapest (no expansion into blocks or bins).
-  const uint64_t smallArea = kGpu ? 8 * 8 : 32 * 32;
+  // CPU: the triangle-size sweep (docs/raster-methods.md) crosses over between
+  // 5 and 16 pixel legs.
+  const uint64_t smallArea = kGpu ? 8 * 8 : 10 * 10;
   if (autoStats_.maxArea <= smallArea) return RasterMethod::Naive;
   return kGpu ? RasterMethod::VisBuffer : RasterMethod::Binned;
 }
