@@ -62,7 +62,7 @@ TEST_CASE("MSAA: a pixel half covered by an edge through its centre resolves to 
     }
 }
 
-TEST_CASE("MSAA: each sample follows the fill rule; one sample is exactly the non-AA result", "[quality][msaa]") {
+TEST_CASE("MSAA: each sample follows the fill rule, and one sample equals no anti-aliasing", "[quality][msaa]") {
   // Two triangles sharing a diagonal: with any sample count no sample may be
   // covered twice, which shows as full coverage with one colour per side.
   const int W = 24, H = 24;
