@@ -605,7 +605,10 @@ glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
   if (n.matrix.size() == 16) return glm::make_mat4(n.matrix.data());
   glm::dmat4 t(1.0), r(1.0), s(1.0);
   if (n.translation.size() == 3) t = glm::translate(glm::dmat4(1.0), glm::make_vec3(n.translation.data()));
-  if (n.rotation.size() == 4) r = glm::mat4_cast(glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]));
+  // glTF rotations are unit quaternions; files store them rounded, so normalise
+  // (as glref and OpenGL viewers do) rather than scale the mesh slightly.
+  if (n.rotation.size() == 4)
+    r = glm::mat4_cast(glm::normalize(glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2])));
   if (n.scale.size() == 3) s = glm::scale(glm::dmat4(1.0), glm::make_vec3(n.scale.data()));
   return t * r * s;
 }
