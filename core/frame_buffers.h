@@ -17,7 +17,7 @@ enum Counter : int {
 };
 
 struct FrameBuffers {
-  Viewport vp{0, 0};
+  Viewport vp{0, 0, SamplePattern{}};
   DView<mat4f> mvp;          // per draw
   DView<float4> clip;        // per drawn vertex
   DView<float3> worldPos;    // per drawn vertex, only when shading needs it

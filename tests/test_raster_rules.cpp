@@ -20,7 +20,7 @@ namespace {
 std::vector<int> coverageCounts(const std::vector<double>& wx, const std::vector<double>& wy,
                                 const std::vector<uint32_t>& idx, int W, int H) {
   std::vector<int> count(size_t(W) * H, 0);
-  const Viewport vp{W, H};
+  const Viewport vp{W, H, SamplePattern{}};
   for (size_t t = 0; t < idx.size(); t += 3) {
     ClipVert v[3];
     for (int k = 0; k < 3; ++k) {
