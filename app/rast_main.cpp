@@ -12,6 +12,7 @@
 #include "../models/gltf_export.h"
 #include "../models/procedural.h"
 #include "bench.h"
+#include "guarded_main.h"
 #include "compare_cmd.h"
 #include "cli_options.h"
 
@@ -159,27 +160,4 @@ int run(int argc, char** argv) {
 }  // namespace
 }  // namespace rast
 
-int main(int argc, char** argv) {
-  // Kokkos reads its own --kokkos-* flags; everything else is ours.
-  try {
-    Kokkos::initialize(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "rast: error: Kokkos could not start: %s\n", e.what());
-    return 2;
-  }
-  int rc = 1;
-  try {
-    rc = rast::run(argc, argv);
-  } catch (const rast::Error& e) {
-    std::fprintf(stderr, "rast: error: %s\n", e.what());
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "rast: error: out of memory\n");
-  } catch (const std::exception& e) {
-    std::string m = e.what();
-    for (char& c : m)
-      if (c == '\n') c = ' ';
-    std::fprintf(stderr, "rast: error: %s\n", m.c_str());
-  }
-  Kokkos::finalize();
-  return rc;
-}
+int main(int argc, char** argv) { return rast::guardedMain("rast", argc, argv, rast::run); }

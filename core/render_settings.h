@@ -14,6 +14,12 @@ enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel
 enum class TexFilter { Nearest, Bilinear, Trilinear };
 enum class RasterMethod { Auto, Naive, VisBuffer, Binned };
 
+// Diagnostic modes whose colours are data (normals, texture coordinates, mip
+// level), stored as raw bytes rather than sRGB-encoded light.
+KOKKOS_INLINE_FUNCTION bool isRawShading(ShadingMode m) {
+  return m == ShadingMode::Normals || m == ShadingMode::TexCoord || m == ShadingMode::MipLevel;
+}
+
 struct DirectionalLight {
   float3 direction{0.0f, 0.0f, 1.0f};  // world space, pointing towards the light
   float intensity = 0.85f;

@@ -243,8 +243,7 @@ FrameStats Renderer::renderSupersampled(const Camera& cam, const RenderSettings&
   one.msaa = 1;
   one.reference = false;
   if (rs.reference) one.filter = TexFilter::Bilinear;  // 256 bilinear taps integrate the footprint
-  const bool raw = rs.shading == ShadingMode::Normals || rs.shading == ShadingMode::TexCoord ||
-                   rs.shading == ShadingMode::MipLevel;
+  const bool raw = isRawShading(rs.shading);
   const glm::dmat4 vp = cam.viewProjection(rs.width, rs.height);
   FrameStats st;
   for (size_t p = 0; p < offsets.size(); ++p) {

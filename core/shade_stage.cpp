@@ -162,7 +162,7 @@ struct Shade {
   }
 
   KOKKOS_INLINE_FUNCTION uint32_t display(float4 c) const {
-    if (p.mode == ShadingMode::Normals || p.mode == ShadingMode::TexCoord || p.mode == ShadingMode::MipLevel)
+    if (isRawShading(p.mode))
       return uint32_t(clamp01(c.x) * 255.0f + 0.5f) | uint32_t(clamp01(c.y) * 255.0f + 0.5f) << 8 |
              uint32_t(clamp01(c.z) * 255.0f + 0.5f) << 16 | 0xff000000u;
     return pack(c);
@@ -188,7 +188,7 @@ struct Shade {
     // centroid of the samples it covers (the pixel centre when it covers them
     // all; never outside the triangle, so attributes are not extrapolated),
     // weight by the samples it covers, and resolve in linear light.
-    const bool raw = p.mode == ShadingMode::Normals || p.mode == ShadingMode::TexCoord || p.mode == ShadingMode::MipLevel;
+    const bool raw = isRawShading(p.mode);
     float4 acc{0.0f, 0.0f, 0.0f, 0.0f};
     int background = 0;
     for (int s = 0; s < S; ++s) {

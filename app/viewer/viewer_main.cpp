@@ -13,6 +13,7 @@
 #include "../../core/renderer.h"
 #include "../../models/procedural.h"
 #include "../cli_options.h"
+#include "../guarded_main.h"
 #include "gl_display.h"
 #include "orbit_camera.h"
 #include "viewer_script.h"
@@ -729,20 +730,5 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 256 << 20);
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
 #endif
-  Kokkos::initialize(argc, argv);
-  int rc = 1;
-  try {
-    rc = rast::run(argc, argv);
-  } catch (const rast::Error& e) {
-    std::fprintf(stderr, "rast-viewer: error: %s\n", e.what());
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "rast-viewer: error: out of memory\n");
-  } catch (const std::exception& e) {
-    std::string m = e.what();
-    for (char& c : m)
-      if (c == '\n') c = ' ';
-    std::fprintf(stderr, "rast-viewer: error: %s\n", m.c_str());
-  }
-  Kokkos::finalize();
-  return rc;
+  return rast::guardedMain("rast-viewer", argc, argv, rast::run);
 }

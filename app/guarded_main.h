@@ -1,0 +1,14 @@
+// The start and end every rast executable shares: Kokkos initialised from the
+// command line (its --kokkos-* flags), the program run, and every error turned
+// into one line "<program>: error: ..." on stderr with a non-zero exit.
+#pragma once
+
+#include <functional>
+
+namespace rast {
+
+// Returns the program's exit status: run()'s, 1 after an error, 2 when Kokkos
+// itself cannot start (e.g. a malformed --kokkos-* flag).
+int guardedMain(const char* program, int argc, char** argv, const std::function<int(int, char**)>& run);
+
+}  // namespace rast
