@@ -29,6 +29,16 @@ template <class T>
 using DView = Kokkos::View<T*, Mem>;
 
 using Range = Kokkos::RangePolicy<Exec>;
+using TeamPolicy = Kokkos::TeamPolicy<Exec>;
+using TeamMember = TeamPolicy::member_type;
+
+// Threads per team for the team kernels: a full block of threads on a GPU; on
+// a CPU a team is one thread that loops over the team's range.
+#if defined(RAST_EXEC_CUDA) || defined(RAST_EXEC_HIP)
+constexpr int kTeamSize = 256;
+#else
+constexpr int kTeamSize = 1;
+#endif
 
 // Allocate a device buffer without initialising it: every kernel that reads a
 // buffer first has it written by an earlier stage, so zero-filling would be

@@ -20,9 +20,10 @@ struct FrameBuffers {
   Viewport vp{0, 0, SamplePattern{}};
   DView<mat4f> mvp;          // per draw
   DView<float4> clip;        // per drawn vertex
+  DView<SnapVert> snap;      // per drawn vertex: window position, or why it needs clipping
   DView<float3> worldPos;    // per drawn vertex, only when shading needs it
   DView<float3> worldNormal; // per drawn vertex, only when shading needs it
-  DView<uint32_t> triOffset; // per drawn triangle: raster triangles, then their exclusive prefix sum
+  DView<uint32_t> chunkOffset; // per chunk of drawn triangles: raster triangles, then their exclusive prefix sum
   DView<RasterTri> tris;     // raster triangles
   DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work
   DView<uint32_t> work;        // method-specific work list (bin entries)

@@ -28,6 +28,15 @@ struct TextureGPU {
   int32_t levels;   // mipmap levels stored after level 0 (1: none)
 };
 
+// A vertex in window space: x, y snapped to fixed point, window depth, 1/w.
+// Computed once per drawn vertex by the vertex stage for the vertices that need
+// no clipping, and per clipped vertex by the setup; both call snapVertex
+// (raster_common.h), so a triangle gets the same bits either way.
+struct SnapVert {
+  int32_t x, y;
+  float z, invW;  // invW <= 0: the vertex needs clipping or cannot be drawn (see snapOrFlag)
+};
+
 // A triangle ready for rasterisation: a clipped, culled, snapped piece of one
 // drawn triangle, counter-clockwise (positive area) in window space.
 struct RasterTri {

@@ -1,12 +1,24 @@
 // Primitive assembly and triangle setup: fetch indices, clip in homogeneous
 // space, cull, snap, and write the raster triangles in primitive order.
 //
-// Done in three kernels so the output is compact and ordered without any
-// atomics: count the raster triangles each drawn triangle yields (0 when it is
-// culled, degenerate, non-finite or off-screen; up to kMaxClipVerts-2 when
-// clipped), exclusive-scan the counts, then redo the work and write each
-// triangle at its offset. The total goes to counters(kRasterTris) on the device,
-// so no host round trip is needed inside the frame.
+// The output is compact and ordered without atomics, by a reduce-then-scan over
+// chunks of kSetupChunk drawn triangles:
+//   count  one team per chunk: how many raster triangles the chunk yields (each
+//          drawn triangle gives 0 when culled, degenerate, non-finite or
+//          off-screen, 1 when it needs no clipping, up to kMaxClipVerts-2 when
+//          clipped);
+//   scan   exclusive scan over the chunk totals (a few thousand numbers);
+//   write  one team per chunk redoes the setup into team scratch, scans the
+//          per-triangle counts within the chunk, and copies the chunk's
+//          triangles out word by word, so that neighbouring threads write
+//          neighbouring words.
+// The last step matters on a GPU: a thread storing its own 96-byte triangle
+// sends 24 scattered 4-byte stores per warp instruction to L2, which made the
+// write pass six times slower than the count pass on the H100 (0.31 vs 0.03 ms
+// for a million triangles). The total goes to counters(kRasterTris) on the
+// device, so no host round trip is needed inside the frame.
+#include <cstring>
+
 #include "raster_common.h"
 #include "stages.h"
 
@@ -18,55 +30,34 @@ struct SetupCommon {
   DView<uint32_t> drawTriStart;
   DView<uint32_t> indices;
   DView<float4> clip;
+  DView<SnapVert> snap;
   uint32_t numDraws;
   Viewport vp;
   float gx, gy;
   int32_t cullBack;
 
-  // Fetches drawn triangle t's corners in clip space.
-  KOKKOS_INLINE_FUNCTION void fetch(uint32_t t, ClipVert (&v)[3], bool& frontCCW) const {
+  // Drawn-vertex indices of drawn triangle t's corners.
+  KOKKOS_INLINE_FUNCTION void corners(uint32_t t, uint32_t (&vi)[3], bool& frontCCW) const {
     const uint32_t d = findRange(drawTriStart, numDraws, t);
     const DrawGPU& dr = draws(d);
-    const uint32_t local = t - dr.dstTri;
-    const uint32_t base = 3 * (dr.srcTri + local);
-    for (int k = 0; k < 3; ++k) v[k].p = clip(dr.dstVertex + indices(base + k));
-    v[0].b1 = 0.0f; v[0].b2 = 0.0f;
-    v[1].b1 = 1.0f; v[1].b2 = 0.0f;
-    v[2].b1 = 0.0f; v[2].b2 = 1.0f;
+    const uint32_t base = 3 * (dr.srcTri + (t - dr.dstTri));
+    for (int k = 0; k < 3; ++k) vi[k] = dr.dstVertex + indices(base + k);
     frontCCW = dr.mirrored == 0;
   }
 
-  // Clips a triangle that needs it; returns the polygon size (0: nothing left).
-  KOKKOS_INLINE_FUNCTION int clipSlow(const ClipVert (&v)[3], ClipVert (&poly)[kMaxClipVerts]) const {
-    for (int k = 0; k < 3; ++k) poly[k] = v[k];
+  // Clips a triangle that needs it into a convex polygon; returns its size.
+  KOKKOS_INLINE_FUNCTION int clipPolygon(const uint32_t (&vi)[3], ClipVert (&poly)[kMaxClipVerts]) const {
+    for (int k = 0; k < 3; ++k) poly[k].p = clip(vi[k]);
+    poly[0].b1 = 0.0f; poly[0].b2 = 0.0f;
+    poly[1].b1 = 1.0f; poly[1].b2 = 0.0f;
+    poly[2].b1 = 0.0f; poly[2].b2 = 1.0f;
     return clipTriangle(poly, gx, gy);
   }
 
-  // Raster triangle i of the fan of polygon poly (n vertices).
+  // Raster triangle i of the fan of polygon poly.
   KOKKOS_INLINE_FUNCTION bool fanTriangle(const ClipVert (&poly)[kMaxClipVerts], int i, bool frontCCW, uint32_t t,
                                           RasterTri& out) const {
     return setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cullBack != 0, frontCCW, t, out);
-  }
-};
-
-struct CountTris {
-  SetupCommon c;
-  DView<uint32_t> count;
-  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t t) const {
-    ClipVert v[3];
-    bool frontCCW;
-    c.fetch(t, v, frontCCW);
-    const int cls = classifyTriangle(v[0].p, v[1].p, v[2].p, c.gx, c.gy);
-    RasterTri rt;
-    if (cls != 2) {  // fast path: no polygon in local memory (the result is the same)
-      count(t) = cls == 1 && setupTriangle(v[0], v[1], v[2], c.vp, c.cullBack != 0, frontCCW, t, rt) ? 1u : 0u;
-      return;
-    }
-    ClipVert poly[kMaxClipVerts];
-    const int n = c.clipSlow(v, poly);
-    uint32_t k = 0;
-    for (int i = 0; i + 2 < n; ++i) k += c.fanTriangle(poly, i, frontCCW, t, rt) ? 1u : 0u;
-    count(t) = k;
   }
 };
 
@@ -86,30 +77,142 @@ struct ExclusiveScan {
   }
 };
 
-struct WriteTris {
+constexpr uint32_t kSetupChunk = 256;       // drawn triangles per team
+constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces written later
+
+// Raster triangles drawn triangle t yields, from the vertex stage's snapped
+// corners; `clipped` says the triangle crosses a clipping plane, and then the
+// count comes from clipping it. The classification is clip.h's
+// classifyTriangle on the corners' codes, and an unclipped triangle gets the
+// bits setupTriangle would give it, so the result equals clipping every
+// triangle.
+KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped) {
+  uint32_t vi[3];
+  bool frontCCW;
+  c.corners(t, vi, frontCCW);
+  SnapVert s[3];
+  uint32_t any = 0, all = ~0u;
+  for (int k = 0; k < 3; ++k) {
+    s[k] = c.snap(vi[k]);
+    const uint32_t code = snapCode(s[k]);
+    any |= code;
+    all &= code;
+  }
+  clipped = false;
+  if (any == 0) {  // the common case: inside every plane, w > 0
+    putCorner(out, 0, s[0], 0.0f, 0.0f);
+    putCorner(out, 1, s[1], 1.0f, 0.0f);
+    putCorner(out, 2, s[2], 0.0f, 1.0f);
+    return finishTriangle(c.vp, c.cullBack != 0, frontCCW, t, out) ? 1u : 0u;
+  }
+  if ((any & kCodeNonFinite) || (all & 0x3fu)) return 0;  // not drawable, or wholly outside one plane
+  if (!(any & 0x3fu)) return 0;                           // inside every plane, but some w <= 0
+  clipped = true;
+  ClipVert poly[kMaxClipVerts];
+  const int n = c.clipPolygon(vi, poly);
+  uint32_t k = 0;
+  for (int i = 0; i + 2 < n; ++i) k += c.fanTriangle(poly, i, frontCCW, t, out) ? 1u : 0u;
+  return k;
+}
+
+KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
+  const uint32_t first = chunk * kSetupChunk;
+  return n - first < kSetupChunk ? n - first : kSetupChunk;
+}
+
+struct CountChunks {
   SetupCommon c;
-  DView<uint32_t> offset;
+  DView<uint32_t> chunkCount;
+  uint32_t numTris;
+  KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
+    const uint32_t chunk = uint32_t(m.league_rank()), first = chunk * kSetupChunk;
+    uint32_t sum = 0;
+    Kokkos::parallel_reduce(
+        Kokkos::TeamThreadRange(m, chunkLength(chunk, numTris)),
+        [&](const uint32_t i, uint32_t& acc) {
+          RasterTri rt;
+          bool clipped;
+          acc += setupOne(c, first + i, rt, clipped);
+        },
+        sum);
+    Kokkos::single(Kokkos::PerTeam(m), [&]() { chunkCount(chunk) = sum; });
+  }
+};
+
+// A RasterTri is moved as kTriQuads 16-byte pieces.
+struct alignas(16) Quad {
+  uint32_t w[4];
+};
+constexpr uint32_t kTriQuads = sizeof(RasterTri) / sizeof(Quad);
+static_assert(sizeof(RasterTri) % sizeof(Quad) == 0, "RasterTri is copied in 16-byte pieces");
+// Staged triangles sit kStageStride pieces apart in scratch. A 16-byte access
+// is served eight threads at a time; at an odd stride those eight touch
+// disjoint shared-memory banks (at six pieces, two would share).
+constexpr uint32_t kStageStride = kTriQuads + 1;
+
+struct WriteChunks {
+  SetupCommon c;
+  DView<uint32_t> chunkOffset;
   DView<RasterTri> tris;
-  uint32_t capacity;
-  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t t) const {
-    ClipVert v[3];
-    bool frontCCW;
-    c.fetch(t, v, frontCCW);
-    const int cls = classifyTriangle(v[0].p, v[1].p, v[2].p, c.gx, c.gy);
-    uint32_t o = offset(t);
-    if (cls != 2) {
+  uint32_t capacity, numTris;
+
+  static size_t scratchBytes() {
+    return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 2 * sizeof(uint32_t) * (kSetupChunk + 1);
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
+    const uint32_t chunk = uint32_t(m.league_rank()), first = chunk * kSetupChunk;
+    const uint32_t len = chunkLength(chunk, numTris);
+    auto& shmem = m.team_scratch(0);
+    Quad* staged = static_cast<Quad*>(shmem.get_shmem_aligned(sizeof(Quad) * kSetupChunk * kStageStride, sizeof(Quad)));
+    uint32_t* count = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
+    uint32_t* offset = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
+    // 1. Set up every triangle of the chunk; unclipped ones land in scratch.
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
+      bool clipped;
       RasterTri rt;
-      if (cls == 1 && setupTriangle(v[0], v[1], v[2], c.vp, c.cullBack != 0, frontCCW, t, rt) && o < capacity) tris(o) = rt;
-      return;
-    }
-    ClipVert poly[kMaxClipVerts];
-    const int n = c.clipSlow(v, poly);
-    for (int i = 0; i + 2 < n; ++i) {
-      RasterTri rt;
-      if (!c.fanTriangle(poly, i, frontCCW, t, rt)) continue;
-      if (o < capacity) tris(o) = rt;
-      ++o;
-    }
+      const uint32_t k = setupOne(c, first + i, rt, clipped);
+      count[i] = clipped ? (k | kClippedFlag) : k;
+      if (k == 1 && !clipped) {
+        Quad q[kTriQuads];
+        memcpy(q, &rt, sizeof(rt));  // a register copy once compiled
+        for (uint32_t j = 0; j < kTriQuads; ++j) staged[i * kStageStride + j] = q[j];
+      }
+    });
+    m.team_barrier();
+    // 2. Where each triangle's pieces go within the chunk's output.
+    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
+      const uint32_t k = count[i] & ~kClippedFlag;
+      if (final) offset[i] = upd;
+      upd += k;
+    });
+    m.team_barrier();
+    const uint32_t base = chunkOffset(chunk);
+    // 3. Unclipped triangles, copied piece by piece: neighbouring threads
+    //    write neighbouring 16 bytes (coalesced on a GPU).
+    Quad* dst = reinterpret_cast<Quad*>(tris.data());
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len * kTriQuads), [&](const uint32_t w) {
+      const uint32_t i = w / kTriQuads, j = w - i * kTriQuads;
+      if (count[i] != 1u) return;  // culled, or clipped (written below)
+      const uint32_t o = base + offset[i];
+      if (o < capacity) dst[size_t(o) * kTriQuads + j] = staged[i * kStageStride + j];
+    });
+    // 4. Clipped triangles (rare): clip again and write the pieces directly.
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
+      if (!(count[i] & kClippedFlag)) return;
+      uint32_t vi[3];
+      bool frontCCW;
+      c.corners(first + i, vi, frontCCW);
+      ClipVert poly[kMaxClipVerts];
+      const int n = c.clipPolygon(vi, poly);
+      uint32_t o = base + offset[i];
+      for (int j = 0; j + 2 < n; ++j) {
+        RasterTri rt;
+        if (!c.fanTriangle(poly, j, frontCCW, first + i, rt)) continue;
+        if (o < capacity) tris(o) = rt;
+        ++o;
+      }
+    });
   }
 };
 
@@ -125,13 +228,17 @@ void scanExclusive(const char* label, const DView<uint32_t>& data, uint32_t n, c
 }
 
 void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack) {
-  ensureCapacity(f.triOffset, "frame.triOffset", s.numTris);
-  SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, s.numDraws, f.vp,
+  const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
+  ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
+  SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
-  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
-  Kokkos::parallel_for("rast::setup::count", Policy(0, s.numTris), CountTris{c, f.triOffset});
-  scanExclusive("rast::setup::scan", f.triOffset, s.numTris, f.counters, kRasterTris);
-  Kokkos::parallel_for("rast::setup::write", Policy(0, s.numTris), WriteTris{c, f.triOffset, f.tris, f.triCapacity});
+  if (chunks > 0)
+    Kokkos::parallel_for("rast::setup::count", TeamPolicy(int(chunks), kTeamSize), CountChunks{c, f.chunkOffset, s.numTris});
+  scanExclusive("rast::setup::scan", f.chunkOffset, chunks, f.counters, kRasterTris);
+  if (chunks > 0)
+    Kokkos::parallel_for("rast::setup::write",
+                         TeamPolicy(int(chunks), kTeamSize).set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
+                         WriteChunks{c, f.chunkOffset, f.tris, f.triCapacity, s.numTris});
 }
 
 }  // namespace rast

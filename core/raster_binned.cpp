@@ -71,8 +71,7 @@ struct FillBins {
   }
 };
 
-using TeamPolicy = Kokkos::TeamPolicy<Exec>;
-using Member = TeamPolicy::member_type;
+using Member = TeamMember;
 using ScratchKeys = Kokkos::View<uint64_t*, Exec::scratch_memory_space, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
 
 // One team per tile: depth-test the tile's list in order. Each pixel belongs
@@ -197,11 +196,7 @@ void rasterBinned(FrameBuffers& f) {
   Kokkos::parallel_for("rast::raster::binned::fill", Policy(0, g.batches),
                        FillBins{f.tris, f.counters, f.workOffset, f.work, g, f.workCapacity});
 
-#if defined(RAST_EXEC_CUDA) || defined(RAST_EXEC_HIP)
-  const int teamSize = 256;
-#else
-  const int teamSize = 1;
-#endif
+  const int teamSize = kTeamSize;
   // The tile's keys live in team scratch; with many samples they outgrow fast
   // on-chip memory (level 0) and go to level 1 (global, still private to the team).
   const size_t scratch = ScratchKeys::shmem_size(size_t(kTilePixels) * f.vp.samples.count);

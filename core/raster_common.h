@@ -29,26 +29,49 @@ KOKKOS_INLINE_FUNCTION int32_t floorDiv(int32_t a, int32_t b) {  // b > 0
   return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
-// Snaps a clip-space triangle to a RasterTri. Returns false when it is culled,
-// degenerate after snapping, or covers no pixel centre of the viewport.
-//   frontCCW: counter-clockwise triangles (in window space) face the viewer.
-KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, const ClipVert& c, const Viewport vp,
-                                          bool cullBack, bool frontCCW, uint32_t prim, RasterTri& t) {
-  const ClipVert* v[3] = {&a, &b, &c};
+KOKKOS_INLINE_FUNCTION SnapVert snapVertex(const float4 p, const Viewport& vp) {
   const float hw = 0.5f * float(vp.width), hh = 0.5f * float(vp.height);
-  for (int i = 0; i < 3; ++i) {
-    const float4 p = v[i]->p;
-    if (!(p.w > 0.0f)) return false;
-    const float iw = 1.0f / p.w;
-    const float nx = p.x / p.w, ny = p.y / p.w, nz = p.z / p.w;
-    const float wx = nx * hw + hw, wy = ny * hh + hh;
-    t.x[i] = int32_t(::floorf(wx * float(kSubOne) + 0.5f));
-    t.y[i] = int32_t(::floorf(wy * float(kSubOne) + 0.5f));
-    t.z[i] = nz * 0.5f + 0.5f;
-    t.invW[i] = iw;
-    t.bary[i][0] = v[i]->b1;
-    t.bary[i][1] = v[i]->b2;
+  const float iw = 1.0f / p.w;
+  const float nx = p.x / p.w, ny = p.y / p.w, nz = p.z / p.w;
+  const float wx = nx * hw + hw, wy = ny * hh + hh;
+  SnapVert s;
+  s.x = int32_t(::floorf(wx * float(kSubOne) + 0.5f));
+  s.y = int32_t(::floorf(wy * float(kSubOne) + 0.5f));
+  s.z = nz * 0.5f + 0.5f;
+  s.invW = iw;
+  return s;
+}
+
+// Bits of a vertex's clip code beyond the six planes of clip.h.
+constexpr uint32_t kCodeNonFinite = 1u << 6;
+constexpr uint32_t kCodeWNotPositive = 1u << 7;
+
+// The vertex stage's record for one drawn vertex: snapped when it lies inside
+// every clipping plane with w > 0; otherwise x, y, z are unused and invW holds
+// minus its clip code (planes outside, non-finite, w <= 0), which the setup
+// needs to classify the triangle without reloading clip coordinates.
+KOKKOS_INLINE_FUNCTION SnapVert snapOrFlag(const float4 p, const Viewport& vp, float gx, float gy) {
+  uint32_t code = 0;
+  if (!finite4(p)) {
+    code = kCodeNonFinite;
+  } else {
+    for (int k = 0; k < 6; ++k)
+      if (planeDistance(k, p, gx, gy) < 0.0f) code |= 1u << k;
+    if (!(p.w > 0.0f)) code |= kCodeWNotPositive;
   }
+  if (code == 0) return snapVertex(p, vp);
+  SnapVert s{0, 0, 0.0f, -float(code)};
+  return s;
+}
+
+KOKKOS_INLINE_FUNCTION uint32_t snapCode(const SnapVert& s) { return s.invW > 0.0f ? 0u : uint32_t(-s.invW); }
+
+// Completes a RasterTri whose t.x, t.y, t.z, t.invW, t.bary hold the snapped
+// corners. Returns false when it is culled, degenerate after snapping, or
+// covers no pixel centre of the viewport.
+//   frontCCW: counter-clockwise triangles (in window space) face the viewer.
+KOKKOS_INLINE_FUNCTION bool finishTriangle(const Viewport& vp, bool cullBack, bool frontCCW, uint32_t prim,
+                                           RasterTri& t) {
   const int64_t area = int64_t(t.x[1] - t.x[0]) * int64_t(t.y[2] - t.y[0]) -
                        int64_t(t.x[2] - t.x[0]) * int64_t(t.y[1] - t.y[0]);
   if (area == 0) return false;
@@ -79,6 +102,22 @@ KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, 
   t.maxY = t.maxY > vp.height - 1 ? vp.height - 1 : t.maxY;
   t.prim = prim;
   return t.minX <= t.maxX && t.minY <= t.maxY;
+}
+
+KOKKOS_INLINE_FUNCTION void putCorner(RasterTri& t, int i, const SnapVert& s, float b1, float b2) {
+  t.x[i] = s.x; t.y[i] = s.y; t.z[i] = s.z; t.invW[i] = s.invW;
+  t.bary[i][0] = b1; t.bary[i][1] = b2;
+}
+
+// Snaps a clip-space triangle to a RasterTri (see finishTriangle).
+KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, const ClipVert& c, const Viewport vp,
+                                          bool cullBack, bool frontCCW, uint32_t prim, RasterTri& t) {
+  const ClipVert* v[3] = {&a, &b, &c};
+  for (int i = 0; i < 3; ++i) {
+    if (!(v[i]->p.w > 0.0f)) return false;
+    putCorner(t, i, snapVertex(v[i]->p, vp), v[i]->b1, v[i]->b2);
+  }
+  return finishTriangle(vp, cullBack, frontCCW, prim, t);
 }
 
 // Edge functions of a RasterTri as E_i(X, Y) = A_i * X + B_i * Y + C_i over

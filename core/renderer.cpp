@@ -12,7 +12,7 @@
 namespace rast {
 
 size_t FrameBuffers::bytes() const {
-  return viewBytes(mvp) + viewBytes(clip) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(triOffset) +
+  return viewBytes(mvp) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) +
          viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal);
 }
