@@ -32,6 +32,18 @@ using Range = Kokkos::RangePolicy<Exec>;
 using TeamPolicy = Kokkos::TeamPolicy<Exec>;
 using TeamMember = TeamPolicy::member_type;
 
+// Marks a kernel's policy so that its functor travels as a kernel argument
+// (up to 4 KiB). Without it, Kokkos' CUDA backend launches functors over 512
+// bytes through one shared constant-memory buffer and, before each such launch,
+// waits on the host for the previous one to finish: a host-device
+// synchronisation in the middle of the frame, which cost the H100 about 10 us
+// per frame with the setup and shading kernels. Use it for every kernel whose
+// functor carries the frame's views and parameters.
+template <class Policy>
+auto lightweight(const Policy& p) {
+  return Kokkos::Experimental::require(p, Kokkos::Experimental::WorkItemProperty::HintLightWeight);
+}
+
 // Threads per team for the team kernels: a full block of threads on a GPU; on
 // a CPU a team is one thread that loops over the team's range.
 #if defined(RAST_EXEC_CUDA) || defined(RAST_EXEC_HIP)

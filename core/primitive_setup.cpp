@@ -233,11 +233,12 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack) {
   SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
   if (chunks > 0)
-    Kokkos::parallel_for("rast::setup::count", TeamPolicy(int(chunks), kTeamSize), CountChunks{c, f.chunkOffset, s.numTris});
+    Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)), CountChunks{c, f.chunkOffset, s.numTris});
   scanExclusive("rast::setup::scan", f.chunkOffset, chunks, f.counters, kRasterTris);
   if (chunks > 0)
     Kokkos::parallel_for("rast::setup::write",
-                         TeamPolicy(int(chunks), kTeamSize).set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
+                         lightweight(TeamPolicy(int(chunks), kTeamSize))
+                             .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
                          WriteChunks{c, f.chunkOffset, f.tris, f.triCapacity, s.numTris});
 }
 

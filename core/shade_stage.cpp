@@ -251,7 +251,7 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
           f.depth, f.primId, f.normal, lights, f.depthRange, f.vp.width, f.vp.samples, p};
-  Kokkos::parallel_for("rast::shade", Range(0, n), k);
+  Kokkos::parallel_for("rast::shade", lightweight(Range(0, n)), k);
 }
 
 }  // namespace rast

@@ -9,6 +9,7 @@
 #   .device/lib/                                 host runtime libraries the CPU build needs
 #                                                (libgomp), in case the target lacks them
 #   .device/kokkos_count.so                      Kokkos Tools launch counter (scripts/device/kokkos_count.cpp)
+#   .device/kokkos_ktime.so                      Kokkos Tools per-kernel timer (scripts/device/kokkos_ktime.cpp)
 #   .device/src/tests/                           golden images and CLI test scripts of the
 #                                                sources the binaries were built from
 #   .device/build.env                            where the binaries were built (test data
@@ -71,6 +72,8 @@ fi
 if command -v g++ >/dev/null; then
   g++ -O2 -shared -fPIC -o "$dev/kokkos_count.so" "$root/scripts/device/kokkos_count.cpp" ||
     echo "pack.sh: note: kokkos_count.so not built; no launch counts" >&2
+  g++ -O2 -shared -fPIC -o "$dev/kokkos_ktime.so" "$root/scripts/device/kokkos_ktime.cpp" -ldl ||
+    echo "pack.sh: note: kokkos_ktime.so not built; no per-kernel times" >&2
 fi
 
 # Non-system shared libraries the binaries use (libgomp for the OpenMP build).
