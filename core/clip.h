@@ -37,20 +37,12 @@ KOKKOS_INLINE_FUNCTION bool finite4(const float4& p) {
   return isFinite(p.x) && isFinite(p.y) && isFinite(p.z) && isFinite(p.w);
 }
 
-// 0: nothing to draw (non-finite, or wholly outside one plane); 1: inside every
-// plane (no clipping needed, the common case); 2: needs clipping.
-KOKKOS_INLINE_FUNCTION int classifyTriangle(const float4& a, const float4& b, const float4& c, float gx, float gy) {
-  if (!finite4(a) || !finite4(b) || !finite4(c)) return 0;
-  int outAll = 0x3f, outAny = 0;
-  const float4* v[3] = {&a, &b, &c};
-  for (int i = 0; i < 3; ++i) {
-    int code = 0;
-    for (int k = 0; k < 6; ++k)
-      if (planeDistance(k, *v[i], gx, gy) < 0.0f) code |= 1 << k;
-    outAll &= code;
-    outAny |= code;
-  }
-  return outAll ? 0 : (outAny ? 2 : 1);
+// Bit k set: the point is outside plane k (see planeDistance).
+KOKKOS_INLINE_FUNCTION uint32_t clipCode(const float4& p, float gx, float gy) {
+  uint32_t code = 0;
+  for (int k = 0; k < 6; ++k)
+    if (planeDistance(k, p, gx, gy) < 0.0f) code |= 1u << k;
+  return code;
 }
 
 // Clips the triangle in v[0..2] in place; returns the vertex count of the
@@ -62,11 +54,9 @@ KOKKOS_INLINE_FUNCTION int classifyTriangle(const float4& a, const float4& b, co
 // stays watertight after clipping.
 KOKKOS_INLINE_FUNCTION int clipTriangle(ClipVert (&v)[kMaxClipVerts], float gx, float gy) {
   if (!finite4(v[0].p) || !finite4(v[1].p) || !finite4(v[2].p)) return 0;
-  int outAll = 0x3f, outAny = 0;
+  uint32_t outAll = 0x3f, outAny = 0;
   for (int i = 0; i < 3; ++i) {
-    int code = 0;
-    for (int k = 0; k < 6; ++k)
-      if (planeDistance(k, v[i].p, gx, gy) < 0.0f) code |= 1 << k;
+    const uint32_t code = clipCode(v[i].p, gx, gy);
     outAll &= code;
     outAny |= code;
   }

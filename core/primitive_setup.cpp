@@ -82,10 +82,10 @@ constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces wr
 
 // Raster triangles drawn triangle t yields, from the vertex stage's snapped
 // corners; `clipped` says the triangle crosses a clipping plane, and then the
-// count comes from clipping it. The classification is clip.h's
-// classifyTriangle on the corners' codes, and an unclipped triangle gets the
-// bits setupTriangle would give it, so the result equals clipping every
-// triangle.
+// count comes from clipping it. The corners' codes classify the triangle as
+// clipTriangle would (non-finite or wholly outside one plane: nothing; inside
+// every plane: untouched), and an untouched triangle gets the bits
+// setupTriangle would give it, so the result equals clipping every triangle.
 KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped) {
   uint32_t vi[3];
   bool frontCCW;

@@ -51,14 +51,8 @@ constexpr uint32_t kCodeWNotPositive = 1u << 7;
 // minus its clip code (planes outside, non-finite, w <= 0), which the setup
 // needs to classify the triangle without reloading clip coordinates.
 KOKKOS_INLINE_FUNCTION SnapVert snapOrFlag(const float4 p, const Viewport& vp, float gx, float gy) {
-  uint32_t code = 0;
-  if (!finite4(p)) {
-    code = kCodeNonFinite;
-  } else {
-    for (int k = 0; k < 6; ++k)
-      if (planeDistance(k, p, gx, gy) < 0.0f) code |= 1u << k;
-    if (!(p.w > 0.0f)) code |= kCodeWNotPositive;
-  }
+  uint32_t code = kCodeNonFinite;
+  if (finite4(p)) code = clipCode(p, gx, gy) | (p.w > 0.0f ? 0u : kCodeWNotPositive);
   if (code == 0) return snapVertex(p, vp);
   SnapVert s{0, 0, 0.0f, -float(code)};
   return s;
