@@ -1,6 +1,7 @@
 #include "cli_options.h"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 namespace rast {
@@ -98,6 +99,22 @@ Camera SceneOptions::camera(const Scene& s) const {
   if (glm::length(c.eye - c.target) == 0.0) throw Error("--eye and --target must differ");
   if (glm::length(glm::cross(c.target - c.eye, c.up)) == 0.0) throw Error("--up must not be parallel to the view direction");
   return c;
+}
+
+std::optional<int> parseCommandLine(CLI::App& app, const char* program, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::string m = e.what();
+    for (char& c : m)
+      if (c == '\n') c = ' ';
+    std::fprintf(stderr, "%s: error: %s\n", program, m.c_str());
+    return 2;
+  }
+  return std::nullopt;
 }
 
 }  // namespace rast

@@ -32,4 +32,10 @@ struct SceneOptions {
   bool cameraGiven() const { return !eye.empty() || !target.empty() || !up.empty(); }
 };
 
+// Parses the command line into `app`. Returns the exit status when the program
+// is to stop here: 0 after --help, 2 after a malformed command line, reported
+// as one line "<program>: error: ..." on stderr (CLI11's messages can span
+// lines); nothing when it is to go on.
+std::optional<int> parseCommandLine(CLI::App& app, const char* program, int argc, char** argv);
+
 }  // namespace rast

@@ -132,18 +132,7 @@ int run(int argc, char** argv) {
 
   app.add_subcommand("info", "backend, Kokkos version, threads / device");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);
-    std::string m = e.what();
-    for (char& c : m)
-      if (c == '\n') c = ' ';
-    std::fprintf(stderr, "rast: error: %s\n", m.c_str());
-    return 2;
-  }
+  if (const std::optional<int> status = parseCommandLine(app, "rast", argc, argv)) return *status;
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
   if (bench->parsed()) return runBench(benchOpts, bo);
   if (compare->parsed()) return runCompare(compareOpts);

@@ -693,15 +693,7 @@ int run(int argc, char** argv) {
   app.add_option("--window-screenshot", o.windowScreenshot, "at exit, write the window (with the overlay) to this PNG");
   app.add_flag("--no-overlay", o.noOverlay, "no Dear ImGui overlay");
   app.add_flag("--no-vsync", o.noVsync, "do not wait for the display's refresh");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "rast-viewer: error: %s\n", e.what());
-    return 2;
-  }
+  if (const std::optional<int> status = parseCommandLine(app, "rast-viewer", argc, argv)) return *status;
   if (o.frames < 0) throw Error("--frames must be >= 0");
 
   // Everything that can fail on bad input happens before the window opens.
