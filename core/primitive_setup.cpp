@@ -45,19 +45,25 @@ struct SetupCommon {
     frontCCW = dr.mirrored == 0;
   }
 
-  // Clips a triangle that needs it into a convex polygon; returns its size.
-  KOKKOS_INLINE_FUNCTION int clipPolygon(const uint32_t (&vi)[3], ClipVert (&poly)[kMaxClipVerts]) const {
+  // Clips drawn triangle t (corners vi) into a convex polygon and sets up its
+  // fan; calls emit(rt) for each raster triangle that survives, in order, and
+  // returns how many did.
+  template <class Emit>
+  KOKKOS_INLINE_FUNCTION uint32_t clipAndSetUp(uint32_t t, const uint32_t (&vi)[3], bool frontCCW, Emit&& emit) const {
+    ClipVert poly[kMaxClipVerts];
     for (int k = 0; k < 3; ++k) poly[k].p = clip(vi[k]);
     poly[0].b1 = 0.0f; poly[0].b2 = 0.0f;
     poly[1].b1 = 1.0f; poly[1].b2 = 0.0f;
     poly[2].b1 = 0.0f; poly[2].b2 = 1.0f;
-    return clipTriangle(poly, gx, gy);
-  }
-
-  // Raster triangle i of the fan of polygon poly.
-  KOKKOS_INLINE_FUNCTION bool fanTriangle(const ClipVert (&poly)[kMaxClipVerts], int i, bool frontCCW, uint32_t t,
-                                          RasterTri& out) const {
-    return setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cullBack != 0, frontCCW, t, out);
+    const int n = clipTriangle(poly, gx, gy);
+    uint32_t k = 0;
+    for (int i = 0; i + 2 < n; ++i) {
+      RasterTri rt;
+      if (!setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cullBack != 0, frontCCW, t, rt)) continue;
+      emit(rt);
+      ++k;
+    }
+    return k;
   }
 };
 
@@ -86,6 +92,7 @@ constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces wr
 // clipTriangle would (non-finite or wholly outside one plane: nothing; inside
 // every plane: untouched), and an untouched triangle gets the bits
 // setupTriangle would give it, so the result equals clipping every triangle.
+// `out` holds the raster triangle when the triangle is unclipped and yields one.
 KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped) {
   uint32_t vi[3];
   bool frontCCW;
@@ -108,11 +115,7 @@ KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, Raste
   if ((any & kCodeNonFinite) || (all & 0x3fu)) return 0;  // not drawable, or wholly outside one plane
   if (!(any & 0x3fu)) return 0;                           // inside every plane, but some w <= 0
   clipped = true;
-  ClipVert poly[kMaxClipVerts];
-  const int n = c.clipPolygon(vi, poly);
-  uint32_t k = 0;
-  for (int i = 0; i + 2 < n; ++i) k += c.fanTriangle(poly, i, frontCCW, t, out) ? 1u : 0u;
-  return k;
+  return c.clipAndSetUp(t, vi, frontCCW, [](const RasterTri&) {});
 }
 
 KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
@@ -203,15 +206,11 @@ struct WriteChunks {
       uint32_t vi[3];
       bool frontCCW;
       c.corners(first + i, vi, frontCCW);
-      ClipVert poly[kMaxClipVerts];
-      const int n = c.clipPolygon(vi, poly);
       uint32_t o = base + offset[i];
-      for (int j = 0; j + 2 < n; ++j) {
-        RasterTri rt;
-        if (!c.fanTriangle(poly, j, frontCCW, first + i, rt)) continue;
+      c.clipAndSetUp(first + i, vi, frontCCW, [&](const RasterTri& rt) {
         if (o < capacity) tris(o) = rt;
         ++o;
-      }
+      });
     });
   }
 };
