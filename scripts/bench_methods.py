@@ -14,6 +14,9 @@ import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from csv_rows import write_rows  # noqa: E402
+
 STABILITY = ["builtin:default", "builtin:bigtri", "builtin:tiny", "builtin:overdraw?layers=64",
              "builtin:overdraw?layers=64&order=front", "builtin:slivers", "builtin:nearplane",
              "builtin:degenerate", "builtin:extreme?scale=1e6", "builtin:extreme?scale=1e-6",
@@ -73,13 +76,7 @@ def main():
             r["tri_px"] = f"{tri_px:.4g}"
             rows.append(r)
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
-    keys = []
-    for r in rows:
-        keys += [k for k in r if k not in keys]
-    with open(a.out, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(a.out, rows)
     print(f"wrote {a.out} ({len(rows)} rows)")
 
 

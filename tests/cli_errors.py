@@ -7,20 +7,16 @@ exit status != 0, stderr exactly one non-empty line starting with
 "rast: error:" (and holding the expected words), OUT.png not created, and the
 run finished within 60 s. One good render checks the opposite. Python standard
 library only."""
-import argparse
 import os
 import shutil
 import struct
 import subprocess
 import sys
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--rast", required=True)
-ap.add_argument("--rast-serial", default="")
-ap.add_argument("--shared", default="")
-ap.add_argument("--assimp", default="")
-ap.add_argument("--workdir", required=True)
-args = ap.parse_args()
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_args import arg_parser  # noqa: E402
+
+args = arg_parser().parse_args()
 
 TIMEOUT_S = 60
 work = os.path.abspath(args.workdir)

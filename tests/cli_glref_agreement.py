@@ -19,7 +19,6 @@ libgl1-mesa-dri). Exit 77 (skipped) when ../shared is absent and RAST_GLREF is
 unset, when glref's build dependencies are missing, or when it cannot create an
 EGL/OpenGL context here. Standard library only.
 """
-import argparse
 import os
 import shutil
 import subprocess
@@ -32,13 +31,10 @@ COMPARE = os.path.join(REPO, "scripts", "glref_compare.py")
 APT = ("libepoxy-dev libegl-dev libopengl-dev libgl-dev libtinygltf-dev nlohmann-json3-dev "
        "libstb-dev libglm-dev libegl-mesa0 libgl1-mesa-dri")
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--rast", required=True)
-ap.add_argument("--rast-serial", default="")
-ap.add_argument("--shared", default="")
-ap.add_argument("--assimp", default="/usr/share/assimp/models/glTF2")
-ap.add_argument("--workdir", required=True)
-args = ap.parse_args()
+sys.path.insert(0, HERE)
+from script_args import arg_parser  # noqa: E402
+
+args = arg_parser(assimp_default="/usr/share/assimp/models/glTF2").parse_args()
 
 T0 = time.monotonic()
 os.makedirs(args.workdir, exist_ok=True)

@@ -3,20 +3,15 @@
 and depth on every backend (the OpenMP rast and its Serial twin) and with every
 raster method, and colours within 1/255; repeated runs are identical.
 Exit 77 (skipped) when the Serial twin was not built."""
-import argparse
 import os
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rastimg  # noqa: E402
+from script_args import arg_parser  # noqa: E402
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--rast", required=True)
-ap.add_argument("--rast-serial", default="")
-ap.add_argument("--shared", default="")
-ap.add_argument("--assimp", default="")
-ap.add_argument("--workdir", required=True)
+ap = arg_parser()
 ap.add_argument("--size", default="320x240")
 ap.add_argument("--methods", default="")
 args = ap.parse_args()

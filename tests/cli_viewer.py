@@ -13,27 +13,19 @@
  (d) keys 2/3 report "unavailable", keep triangles and do not crash.
 
 Exit 77 (skipped) when rast-viewer or xvfb-run is missing.
-Standard library only: PNGs are read by the small decoder below."""
-import argparse
+Standard library only: PNGs are read by tests/rastimg.py."""
 import math
 import os
 import re
 import shutil
-import struct
 import subprocess
 import sys
-import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from rastimg import read_png_rgba as read_png  # noqa: E402
+from script_args import arg_parser  # noqa: E402
 
-ap = argparse.ArgumentParser()
-ap.add_argument("--rast", required=True)
-ap.add_argument("--rast-serial", default="")
-ap.add_argument("--shared", default="")
-ap.add_argument("--assimp", default="")
-ap.add_argument("--workdir", required=True)
-args = ap.parse_args()
+args = arg_parser().parse_args()
 
 viewer = os.path.join(os.path.dirname(os.path.abspath(args.rast)), "rast-viewer")
 if not os.path.exists(viewer):

@@ -8,13 +8,15 @@ CSV and prints the ratio rast/hardware per scene (best method).
   python3 scripts/device/perf_vs_gl.py --rast R --glref G --scenes DIR --out F.csv [--sizes 1920x1080,...]
 """
 import argparse
-import csv
 import json
 import os
 import re
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from csv_rows import write_rows  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--rast", required=True)
@@ -92,10 +94,4 @@ for size in a.sizes.split(","):
         print(f"{size:>10} {name:>12} tris={row['triangles']:>8} gl={gl_ms} rast_best={best['total_median_ms']:.4f}"
               f" ({best['method']}) auto={auto['method']} {auto['total_median_ms']:.4f} ratio={ratio}", flush=True)
 
-keys = []
-for r in rows:
-    keys += [k for k in r if k not in keys]
-with open(a.out, "w", newline="") as f:
-    w = csv.DictWriter(f, fieldnames=keys)
-    w.writeheader()
-    w.writerows(rows)
+write_rows(a.out, rows)
