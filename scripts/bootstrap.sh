@@ -32,6 +32,10 @@ DEB_SRC_FILE=/etc/apt/sources.list.d/rast-bookworm-src.sources
 APT_LOCK_OPT=(-o DPkg::Lock::Timeout=600)
 
 log() { printf '[bootstrap] %s\n' "$*"; }
+# Under `set -o pipefail` a reader that stops early (grep -q, head) kills the writer with
+# SIGPIPE and fails the pipeline at random. Every filter below reads its whole input:
+# grep to /dev/null instead of grep -q, first_line instead of head -n1.
+first_line() { sed -n '1p'; }
 die() { printf '[bootstrap] ERROR: %s\n' "$*" >&2; exit 1; }
 
 WITH_VIEWER=1
@@ -115,7 +119,7 @@ finish() {
   exit 0
 }
 
-existing="$(ls "$KOKKOS_PREFIX"/lib*/cmake/Kokkos/KokkosConfig.cmake 2>/dev/null | head -n1 || true)"
+existing="$(ls "$KOKKOS_PREFIX"/lib*/cmake/Kokkos/KokkosConfig.cmake 2>/dev/null | first_line || true)"
 if [ -n "$existing" ]; then
   log "Kokkos already installed: $existing"
   finish
@@ -164,8 +168,8 @@ build_kokkos() {  # $1 = Kokkos source dir, $2 = description of where it came fr
   fi
   t1=$(date +%s)
   local cfg version
-  cfg="$(ls "$KOKKOS_PREFIX"/lib*/cmake/Kokkos/KokkosConfig.cmake | head -n1)"
-  version="$(sed -n 's/.*PACKAGE_VERSION "\([0-9.]*\)".*/\1/p' "$(dirname "$cfg")/KokkosConfigVersion.cmake" | head -n1)"
+  cfg="$(ls "$KOKKOS_PREFIX"/lib*/cmake/Kokkos/KokkosConfig.cmake | first_line)"
+  version="$(sed -n 's/.*PACKAGE_VERSION "\([0-9.]*\)".*/\1/p' "$(dirname "$cfg")/KokkosConfigVersion.cmake" | first_line)"
   {
     echo "kokkos_version=${version:-unknown}"
     echo "origin=$origin"
@@ -175,7 +179,7 @@ build_kokkos() {  # $1 = Kokkos source dir, $2 = description of where it came fr
     echo "devices=OpenMP;Serial"
     echo "build_seconds=$((t1 - t0))"
     echo "built_at=$(date -u +%Y-%m-%dT%H:%M:%SZ)"
-    echo "compiler=$(c++ --version | head -n1)"
+    echo "compiler=$(c++ --version | first_line)"
   } >"$KOKKOS_STAMP"
   log "Kokkos ${version:-?} installed in $((t1 - t0)) s: $cfg"
 }
@@ -188,10 +192,10 @@ fi
 
 # --- Kokkos 3.4.1 out of Debian's trilinos source package (packages/kokkos) ---
 mkdir -p "$SRC_CACHE"
-orig_tarball() { ls "$SRC_CACHE"/trilinos_*.orig.tar.* 2>/dev/null | head -n1 || true; }
+orig_tarball() { ls "$SRC_CACHE"/trilinos_*.orig.tar.* 2>/dev/null | first_line || true; }
 
 if [ -z "$(orig_tarball)" ]; then
-  have_src_index() { apt-cache showsrc --only-source trilinos 2>/dev/null | grep -q '^Package: trilinos$'; }
+  have_src_index() { apt-cache showsrc --only-source trilinos 2>/dev/null | grep '^Package: trilinos$' >/dev/null; }
   if ! have_src_index; then
     if [ ! -e "$DEB_SRC_FILE" ]; then
       # copy URIs/Signed-By of the machine's own bookworm entry (deb822 or one-line format)
@@ -199,8 +203,8 @@ if [ -z "$(orig_tarball)" ]; then
       if [ -r /etc/apt/sources.list.d/debian.sources ]; then
         stanza="$(awk 'BEGIN{RS=""} /(^|\n)Suites:[^\n]*[ \t]bookworm([ \t\n]|$)/ {print; exit}' \
                    /etc/apt/sources.list.d/debian.sources)"
-        uris="$(printf '%s\n' "$stanza" | sed -n 's/^URIs:[[:space:]]*//p' | head -n1)"
-        signed="$(printf '%s\n' "$stanza" | sed -n 's/^Signed-By:[[:space:]]*//p' | head -n1)"
+        uris="$(printf '%s\n' "$stanza" | sed -n 's/^URIs:[[:space:]]*//p' | first_line)"
+        signed="$(printf '%s\n' "$stanza" | sed -n 's/^Signed-By:[[:space:]]*//p' | first_line)"
       fi
       if [ -z "$uris" ] && [ -r /etc/apt/sources.list ]; then
         uris="$(awk '$1=="deb" && $0 ~ / bookworm / {for(i=2;i<=NF;i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}' /etc/apt/sources.list)"

@@ -100,5 +100,5 @@ cp "$src_dir"/tests/*.py "$dev/src/tests/"
 
 echo "pack.sh: $(du -sh "$dev" | cut -f1) in $dev"
 for f in "$dev"/cuda/* "$dev"/openmp/*; do
-  if ldd "$f" | grep -q libcudart; then echo "pack.sh: warning: $f links libcudart dynamically" >&2; fi
+  if ldd "$f" | grep libcudart >/dev/null; then echo "pack.sh: warning: $f links libcudart dynamically" >&2; fi
 done
