@@ -18,17 +18,29 @@ void rasterPointItems(const LineSource& src, FrameBuffers& f);  // raster_points
 
 namespace {
 
+KOKKOS_INLINE_FUNCTION void lightColumns(const LineRaster& r, int32_t p0, int32_t p1, const LinePass& pass, uint32_t key,
+                                          uint64_t* vis, const Viewport& vp) {
+  lineColumns(r, p0, p1, [&](int32_t X, int32_t Y, float z) {
+    writeLineFragment(vis, vp.width, vp.samples.count, X, Y, overlayDepth(pass, key, z), key);
+  });
+}
+
+// A line of one span (most lines) is lit right here, within the same bound;
+// longer lines count their spans for the span kernel.
 struct CountLineSpans {
   LineSource src;
   DView<float4> clip;
   DView<uint32_t> spans;
+  DView<uint64_t> vis;
   Viewport vp;
   float gx, gy;
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t k) const {
     uint32_t a, b;
     LineRaster r{};
     const bool ok = src.lineItem(k, a, b) && setupLine(clip(a), clip(b), vp, gx, gy, src.pass.width, r);
-    spans(k) = ok ? lineSpans(r) : 0u;
+    const uint32_t n = ok ? lineSpans(r) : 0u;
+    if (n == 1) lightColumns(r, r.lo, r.hi, src.pass, src.pass.lineKey(k), vis.data(), vp);
+    spans(k) = n > 1 ? n : 0u;
   }
 };
 
@@ -48,16 +60,9 @@ struct RasterLineSpans {
       LineRaster r{};
       // The same bits as when counting, so this always succeeds.
       if (!src.lineItem(k, a, b) || !setupLine(clip(a), clip(b), vp, gx, gy, src.pass.width, r)) continue;
-      const uint32_t key = src.pass.lineKey(k);
       const int32_t p0 = r.lo + int32_t(w - spanStart(k)) * kLineSpan;
       const int32_t p1 = p0 + kLineSpan - 1 < r.hi ? p0 + kLineSpan - 1 : r.hi;
-      uint64_t* v = vis.data();
-      const int32_t width = vp.width, samples = vp.samples.count;
-      const LinePass& pass = src.pass;
-      for (int32_t P = p0; P <= p1; ++P)
-        lineColumn(r, P, [&](int32_t X, int32_t Y, float z) {
-          writeLineFragment(v, width, samples, X, Y, overlayDepth(pass, key, z), key);
-        });
+      lightColumns(r, p0, p1, src.pass, src.pass.lineKey(k), vis.data(), vp);
     }
   }
 };
@@ -96,7 +101,7 @@ void rasterLinesAndPoints(const DeviceScene& s, FrameBuffers& f, const LinePass&
   if (nLines > 0) {
     ensureCapacity(lf.lineOffset, "frame.lines.lineOffset", nLines);
     Kokkos::parallel_for("rast::raster::lines::count", Policy(0, nLines),
-                         CountLineSpans{src, f.clip, lf.lineOffset, f.vp, gx, gy});
+                         CountLineSpans{src, f.clip, lf.lineOffset, f.vis, f.vp, gx, gy});
     scanExclusive("rast::raster::lines::scan", lf.lineOffset, nLines, lf.counters, 0);
     const uint32_t threads = persistentThreads();
     Kokkos::parallel_for("rast::raster::lines::spans", lightweight(Policy(0, threads)),

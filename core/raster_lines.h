@@ -192,42 +192,65 @@ KOKKOS_INLINE_FUNCTION uint32_t lineSpans(const LineRaster& r) {
   return r.lo > r.hi ? 0u : uint32_t((r.hi - r.lo) / kLineSpan + 1);
 }
 
-// Calls emit(X, Y, depth) for each pixel the line lights in major pixel column P.
+// Calls emit(X, Y, depth) for each pixel the line lights in the major pixel
+// columns p0..p1. The minor position steps exactly from column to column (one
+// 64-bit division per call, not per column).
+template <class Emit>
+KOKKOS_INLINE_FUNCTION void lineColumns(const LineRaster& r, int32_t p0, int32_t p1, Emit&& emit) {
+  const int64_t S = kSubOne;
+  const int64_t du = int64_t(r.ub) - r.ua, dv = int64_t(r.vb) - r.va;
+  const int64_t D = du * S;                   // one pixel along the minor axis, times du
+  const int64_t stepN = dv * S;               // |stepN| <= D
+  const float invDu = 1.0f / float(du);
+  int64_t c = int64_t(p0) * S + kSubHalf;       // centre along the major axis
+  int64_t N = int64_t(r.va) * du + dv * (c - r.ua);  // minor position of the line at c, times du
+  int64_t Q = floorDiv64(N, D);               // pixel row whose diamond the line crosses at c
+  int64_t rem = N - Q * D;                    // in [0, D)
+  const int64_t den1 = du + dv, den2 = du - dv;  // >= 0
+  for (int32_t P = p0; P <= p1; ++P) {
+    float t = float(c - r.ua) * invDu;
+    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+    const float z = clamp01(r.za + t * (r.zb - r.za));
+    const int32_t X0 = r.sgn > 0 ? P : -P - 1;
+    if (r.width == kSubOne) {
+      // Diamond-exit: the diamond in this column is the one whose vertical
+      // (minor) diagonal the line crosses; the exit lies u = min(u1, u2) past
+      // the centre (the line leaves through one of the two far sides).
+      const int64_t E = rem - kSubHalf * du;  // (line - diamond centre) * du, in [-D/2, D/2)
+      const int64_t num1 = kSubHalf * du - E, num2 = kSubHalf * du + E;
+      auto exitWithin = [&](int64_t L) {  // exit u <= L
+        return (den1 > 0 && num1 <= L * den1) || (den2 > 0 && num2 <= L * den2);
+      };
+      if (exitWithin(int64_t(r.ub) - c) && !exitWithin(int64_t(r.ua) - c) && Q >= 0 && Q < r.minorLimit) {
+        if (r.xMajor) emit(X0, int32_t(Q), z); else emit(int32_t(Q), X0, z);
+      }
+    } else if (c >= r.ua && c < r.ub) {
+      // Parallelogram: centres start <= c < end, minor centre within [-w/2, w/2).
+      const int64_t den = 2 * D;
+      int64_t q0 = ceilDiv64(2 * N - int64_t(r.width) * du - S * du, den);
+      int64_t q1 = ceilDiv64(2 * N + int64_t(r.width) * du - S * du, den) - 1;
+      q0 = q0 < 0 ? 0 : q0;
+      q1 = q1 > r.minorLimit - 1 ? r.minorLimit - 1 : q1;
+      for (int64_t q = q0; q <= q1; ++q) {
+        if (r.xMajor) emit(X0, int32_t(q), z); else emit(int32_t(q), X0, z);
+      }
+    }
+    c += S;
+    N += stepN;
+    rem += stepN;
+    if (rem >= D) {
+      rem -= D;
+      ++Q;
+    } else if (rem < 0) {
+      rem += D;
+      --Q;
+    }
+  }
+}
+
 template <class Emit>
 KOKKOS_INLINE_FUNCTION void lineColumn(const LineRaster& r, int32_t P, Emit&& emit) {
-  const int64_t du = int64_t(r.ub) - r.ua, dv = int64_t(r.vb) - r.va;
-  const int64_t c = int64_t(P) * kSubOne + kSubHalf;  // centre along the major axis
-  const int64_t N = int64_t(r.va) * du + dv * (c - r.ua);  // minor position of the line at c, times du
-  float t = float(c - r.ua) / float(du);
-  t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
-  const float z = clamp01(r.za + t * (r.zb - r.za));
-  const int32_t X0 = r.sgn > 0 ? P : -P - 1;
-  if (r.width == kSubOne) {
-    // Diamond-exit: the diamond in this column is the one whose vertical
-    // (minor) diagonal the line crosses; the exit lies u = min(u1, u2) past
-    // the centre (the line leaves through one of the two far sides).
-    const int64_t Q = floorDiv64(N, du * kSubOne);
-    const int64_t E = N - (Q * kSubOne + kSubHalf) * du;  // (line - diamond centre) * du, in [-du/2, du/2) pixels
-    const int64_t den1 = du + dv, den2 = du - dv;         // >= 0
-    const int64_t num1 = int64_t(kSubHalf) * du - E, num2 = int64_t(kSubHalf) * du + E;
-    auto exitWithin = [&](int64_t D) {  // exit u <= D
-      return (den1 > 0 && num1 <= D * den1) || (den2 > 0 && num2 <= D * den2);
-    };
-    if (!exitWithin(int64_t(r.ub) - c) || exitWithin(int64_t(r.ua) - c)) return;
-    if (Q < 0 || Q >= r.minorLimit) return;
-    if (r.xMajor) emit(X0, int32_t(Q), z); else emit(int32_t(Q), X0, z);
-    return;
-  }
-  // Parallelogram: centres start <= c < end, minor centre within [-w/2, w/2).
-  if (c < r.ua || c >= r.ub) return;
-  const int64_t den = 2 * int64_t(kSubOne) * du;
-  int64_t q0 = ceilDiv64(2 * N - int64_t(r.width) * du - int64_t(kSubOne) * du, den);
-  int64_t q1 = ceilDiv64(2 * N + int64_t(r.width) * du - int64_t(kSubOne) * du, den) - 1;
-  q0 = q0 < 0 ? 0 : q0;
-  q1 = q1 > r.minorLimit - 1 ? r.minorLimit - 1 : q1;
-  for (int64_t q = q0; q <= q1; ++q) {
-    if (r.xMajor) emit(X0, int32_t(q), z); else emit(int32_t(q), X0, z);
-  }
+  lineColumns(r, P, P, emit);
 }
 
 // A point ready to rasterize: the pixels [x0, x1] x [y0, y1] (in the viewport).
