@@ -16,8 +16,9 @@
 // * Lines of width 1: the diamond-exit rule. A pixel is lit when the segment
 //   leaves its diamond |x - xc| + |y - yc| < 1/2, i.e. the exit point of the
 //   line through the diamond lies in (start, end] along the segment. A line
-//   exactly on a diamond corner counts as passing just above it (x-major) or
-//   just right of it (y-major): the perturbation the GL spec allows.
+//   exactly on a diamond corner counts as passing just below it (x-major) or
+//   just left of it (y-major): the perturbation the GL spec allows, chosen as
+//   Mesa's llvmpipe chooses it.
 // * Wider lines: the parallelogram rule: pixel centres c with
 //   start <= c < end along the major axis, and within [-w/2, w/2) of the line
 //   along the minor axis.
@@ -204,8 +205,10 @@ KOKKOS_INLINE_FUNCTION void lineColumns(const LineRaster& r, int32_t p0, int32_t
   const float invDu = 1.0f / float(du);
   int64_t c = int64_t(p0) * S + kSubHalf;       // centre along the major axis
   int64_t N = int64_t(r.va) * du + dv * (c - r.ua);  // minor position of the line at c, times du
-  int64_t Q = floorDiv64(N, D);               // pixel row whose diamond the line crosses at c
-  int64_t rem = N - Q * D;                    // in [0, D)
+  // The pixel row whose diamond the line crosses at c; a line exactly on a
+  // diamond corner (N a multiple of D) counts as passing just below it.
+  int64_t Q = floorDiv64(N - 1, D);
+  int64_t rem = N - Q * D;                    // in (0, D]
   const int64_t den1 = du + dv, den2 = du - dv;  // >= 0
   for (int32_t P = p0; P <= p1; ++P) {
     float t = float(c - r.ua) * invDu;
@@ -216,7 +219,7 @@ KOKKOS_INLINE_FUNCTION void lineColumns(const LineRaster& r, int32_t p0, int32_t
       // Diamond-exit: the diamond in this column is the one whose vertical
       // (minor) diagonal the line crosses; the exit lies u = min(u1, u2) past
       // the centre (the line leaves through one of the two far sides).
-      const int64_t E = rem - kSubHalf * du;  // (line - diamond centre) * du, in [-D/2, D/2)
+      const int64_t E = rem - kSubHalf * du;  // (line - diamond centre) * du, in (-D/2, D/2]
       const int64_t num1 = kSubHalf * du - E, num2 = kSubHalf * du + E;
       auto exitWithin = [&](int64_t L) {  // exit u <= L
         return (den1 > 0 && num1 <= L * den1) || (den2 > 0 && num2 <= L * den2);
@@ -238,10 +241,10 @@ KOKKOS_INLINE_FUNCTION void lineColumns(const LineRaster& r, int32_t p0, int32_t
     c += S;
     N += stepN;
     rem += stepN;
-    if (rem >= D) {
+    if (rem > D) {
       rem -= D;
       ++Q;
-    } else if (rem < 0) {
+    } else if (rem <= 0) {
       rem += D;
       --Q;
     }

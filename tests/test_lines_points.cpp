@@ -72,9 +72,9 @@ std::string show(const Pixels& p) {
 TEST_CASE("width-1 lines from pixel centre to pixel centre light the diamond-exit pixels", "[lines]") {
   // Hand-computed: for an x-major line the pixel of column X is the row whose
   // diamond the line crosses at the column centre X + 0.5 (on a diamond corner,
-  // the row above); the start pixel is lit, the end pixel (the line ends in its
+  // the row below); the start pixel is lit, the end pixel (the line ends in its
   // diamond) is not. y-major lines likewise with rows and columns swapped (on a
-  // corner, the column to the right).
+  // corner, the column to the left).
   struct Case {
     int x0, y0, x1, y1;
     Pixels expect;
@@ -88,11 +88,11 @@ TEST_CASE("width-1 lines from pixel centre to pixel centre light the diamond-exi
       {5, 5, 1, 1, {{5, 5}, {4, 4}, {3, 3}, {2, 2}}},                          // exact diagonal, reversed
       {1, 5, 5, 1, {{1, 5}, {2, 4}, {3, 3}, {4, 2}}},                          // anti-diagonal
       {5, 1, 1, 5, {{5, 1}, {4, 2}, {3, 3}, {2, 4}}},                          // anti-diagonal, reversed
-      {1, 1, 7, 4, {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {5, 3}, {6, 4}}},          // slope 1/2 (corners at x=2,4,6)
-      {7, 4, 1, 1, {{7, 4}, {6, 4}, {5, 3}, {4, 3}, {3, 2}, {2, 2}}},          // slope 1/2, reversed
+      {1, 1, 7, 4, {{1, 1}, {2, 1}, {3, 2}, {4, 2}, {5, 3}, {6, 3}}},          // slope 1/2 (corners at x=2,4,6)
+      {7, 4, 1, 1, {{7, 4}, {6, 3}, {5, 3}, {4, 2}, {3, 2}, {2, 1}}},          // slope 1/2, reversed
       {0, 0, 6, 2, {{0, 0}, {1, 0}, {2, 1}, {3, 1}, {4, 1}, {5, 2}}},          // slope 1/3
-      {2, 1, 4, 5, {{2, 1}, {3, 2}, {3, 3}, {4, 4}}},                          // slope 2 (y-major)
-      {4, 5, 2, 1, {{4, 5}, {4, 4}, {3, 3}, {3, 2}}},                          // slope 2, reversed
+      {2, 1, 4, 5, {{2, 1}, {2, 2}, {3, 3}, {3, 4}}},                          // slope 2 (y-major, corners at y=2,4)
+      {4, 5, 2, 1, {{4, 5}, {3, 4}, {3, 3}, {2, 2}}},                          // slope 2, reversed
   };
   for (const Case& c : cases) {
     WindowScene ws{12, 8, {}, {}, {}};
