@@ -100,7 +100,7 @@ void rasterLinesAndPoints(const DeviceScene& s, FrameBuffers& f, const LinePass&
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
   if (nLines > 0) {
     ensureCapacity(lf.lineOffset, "frame.lines.lineOffset", nLines);
-    Kokkos::parallel_for("rast::raster::lines::count", Policy(0, nLines),
+    Kokkos::parallel_for("rast::raster::lines::count", lightweight(Policy(0, nLines)),
                          CountLineSpans{src, f.clip, lf.lineOffset, f.vis, f.vp, gx, gy});
     scanExclusive("rast::raster::lines::scan", lf.lineOffset, nLines, lf.counters, 0);
     const uint32_t threads = persistentThreads();

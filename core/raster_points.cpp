@@ -67,7 +67,7 @@ void rasterPointItems(const LineSource& src, FrameBuffers& f) {
   const float gx = guardBand(f.vp.width), gy = guardBand(f.vp.height);
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
   ensureCapacity(lf.pointOffset, "frame.lines.pointOffset", n);
-  Kokkos::parallel_for("rast::raster::points::count", Policy(0, n), CountPointRows{src, f.clip, lf.pointOffset, f.vis, f.vp, gx, gy});
+  Kokkos::parallel_for("rast::raster::points::count", lightweight(Policy(0, n)), CountPointRows{src, f.clip, lf.pointOffset, f.vis, f.vp, gx, gy});
   scanExclusive("rast::raster::points::scan", lf.pointOffset, n, lf.counters, 1);
   const uint32_t threads = persistentThreads();
   Kokkos::parallel_for("rast::raster::points::rows", lightweight(Policy(0, threads)),

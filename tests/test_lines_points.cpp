@@ -312,7 +312,7 @@ TEST_CASE("polygon modes draw triangle edges and corners with the triangle's id"
   CHECK(f.id(20, 12) == 0);
 }
 
-TEST_CASE("the wireframe overlay draws edges over the fill; hidden-line hides the edges behind it", "[lines][polygon]") {
+TEST_CASE("the wireframe overlay draws edges over the fill, and hidden-line hides the edges behind it", "[lines][polygon]") {
   // A back square (z = 0.5, triangles 1 and 2) over the whole frame, and a
   // front square (z = -0.5, triangles 3 and 4) over its left half.
   const int W = 32, H = 16;
