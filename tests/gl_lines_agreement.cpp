@@ -13,6 +13,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -149,13 +150,24 @@ Agreement compare(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b
 
 int main(int argc, char** argv) {
   double minAgree = 0.0;
-  for (int i = 1; i + 1 < argc; ++i)
+  std::string skipDir;  // where a skip leaves its reason (tests/skip_report.cmake)
+  for (int i = 1; i + 1 < argc; ++i) {
     if (std::string(argv[i]) == "--min") minAgree = std::atof(argv[i + 1]);
+    if (std::string(argv[i]) == "--skip-dir") skipDir = argv[i + 1];
+  }
   Kokkos::ScopeGuard kokkos(argc, argv);
   glref::EglContext egl;
   std::string err;
   if (!egl.create("auto", -1, false, err)) {
     std::printf("SKIPPED: no EGL/OpenGL context: %s\n", err.c_str());
+    if (!skipDir.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(skipDir, ec);
+      if (FILE* f = std::fopen((skipDir + "/gl_lines_agreement.txt").c_str(), "w")) {
+        std::fprintf(f, "no EGL/OpenGL context: %s\n", err.c_str());
+        std::fclose(f);
+      }
+    }
     return 77;
   }
   std::printf("GL: %s | %s\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
