@@ -8,6 +8,8 @@
 
 #include "core/gltf_loader.h"
 #include "core/raster_lines.h"
+#include "models/gltf_export.h"
+#include "models/stress_scenes.h"
 #include "test_support.h"
 
 #include <cstdio>
@@ -410,4 +412,24 @@ TEST_CASE("Mesh_PrimitiveMode_00..15 load and render non-empty", "[lines][points
     CHECK(litPixels(f).size() > 50);
   }
   CHECK(found == 16);
+}
+
+TEST_CASE("exported point and line scenes load back with the same segments, points and ids", "[lines][points][export]") {
+  for (const char* name : {"lines?n=50", "points?n=50"}) {
+    Scene s;
+    REQUIRE(makeStressScene(name, s));
+    const std::string path = std::string(RAST_BINARY_DIR) + "/export_" + std::string(name).substr(0, 5) + ".glb";
+    exportGlb(s, path);
+    const Scene back = loadGltf(path);
+    std::remove(path.c_str());
+    INFO(name);
+    CHECK(back.triangleCount() == s.triangleCount());
+    CHECK(back.lineCount() == s.lineCount());
+    CHECK(back.pointCount() == s.pointCount());
+    RenderSettings rs;
+    rs.width = 96;
+    rs.height = 54;
+    const Camera cam = defaultCamera(s);
+    CHECK(renderFrame(back, cam, rs).ids == renderFrame(s, cam, rs).ids);
+  }
 }
