@@ -70,6 +70,14 @@ struct LineFrame {
   size_t bytes() const { return viewBytes(lineOffset) + viewBytes(pointOffset) + viewBytes(counters); }
 };
 
+// SnapVert holds fine coordinates (depth_plane.h); points and lines work on
+// the 1/256-pixel snapped positions, as the triangles' coverage does.
+KOKKOS_INLINE_FUNCTION SnapVert toSnapped(SnapVert s) {
+  s.x = fineToSnapped(s.x);
+  s.y = fineToSnapped(s.y);
+  return s;
+}
+
 // The segment (or point: a == b) an item draws, as drawn vertex indices.
 struct LineSource {
   DView<LineGPU> lines, points;
@@ -91,7 +99,7 @@ struct LineSource {
     if (!pass.cullBack) return true;
     uint32_t d;
     const uint32_t v0 = corner(t, 0, &d), v1 = corner(t, 1), v2 = corner(t, 2);
-    const SnapVert a = snap(v0), b = snap(v1), c = snap(v2);
+    const SnapVert a = toSnapped(snap(v0)), b = toSnapped(snap(v1)), c = toSnapped(snap(v2));
     // Culled as the fill would be; a triangle that needs clipping is kept (its
     // window-space orientation is not known without clipping it).
     if (snapCode(a) || snapCode(b) || snapCode(c)) return true;
@@ -164,7 +172,7 @@ KOKKOS_INLINE_FUNCTION bool setupLine(float4 pa, float4 pb, const Viewport& vp, 
   };
   const float4 ca = t0 > 0.0f ? lerp(t0) : pa, cb = t1 < 1.0f ? lerp(t1) : pb;
   if (!(ca.w > 0.0f) || !(cb.w > 0.0f)) return false;
-  const SnapVert a = snapVertex(ca, vp), b = snapVertex(cb, vp);
+  const SnapVert a = toSnapped(snapVertex(ca, vp)), b = toSnapped(snapVertex(cb, vp));
   const int32_t dx = b.x - a.x, dy = b.y - a.y;
   if (dx == 0 && dy == 0) return false;
   const int32_t adx = dx < 0 ? -dx : dx, ady = dy < 0 ? -dy : dy;
@@ -264,7 +272,7 @@ struct PointRaster {
 
 KOKKOS_INLINE_FUNCTION bool setupPoint(float4 p, const Viewport& vp, float gx, float gy, int32_t size, PointRaster& r) {
   if (!finite4(p) || clipCode(p, gx, gy) != 0 || !(p.w > 0.0f)) return false;
-  const SnapVert s = snapVertex(p, vp);
+  const SnapVert s = toSnapped(snapVertex(p, vp));
   // Centres 256 X + 128 in [x - size/2, x + size/2), in doubled units.
   const int64_t den = 2 * int64_t(kSubOne);
   const int64_t x0 = ceilDiv64(2 * int64_t(s.x) - size - kSubOne, den), x1 = ceilDiv64(2 * int64_t(s.x) + size - kSubOne, den) - 1;
