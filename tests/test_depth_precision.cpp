@@ -42,18 +42,18 @@ struct Lcg {
 // (so clipping cuts them), the others start just in front of it.
 Scene sliverScene(int crossing, int inFront, uint64_t seed) {
   Lcg u{seed};
-  std::vector<float3> p;
+  std::vector<rast::float3> p;
   std::vector<uint32_t> idx;
   for (int i = 0; i < crossing + inFront; ++i) {
     const bool cross = i < crossing;
     // The near corner sits close to the eye, off to the side; the far edge is
     // short and lies 5 to 40 units away, so the triangle is a long thin wedge
     // whose depth changes steeply across its width on screen.
-    const float3 a{0.3f * u(), 0.3f * u(), cross ? 0.05f + 0.04f * u() : -0.12f - 0.01f * u()};
+    const rast::float3 a{0.3f * u(), 0.3f * u(), cross ? 0.05f + 0.04f * u() : -0.12f - 0.01f * u()};
     const float dist = 22.5f + 17.5f * u();
-    const float3 b{dist * 0.4f * u(), dist * 0.3f * u(), -dist};
+    const rast::float3 b{dist * 0.4f * u(), dist * 0.3f * u(), -dist};
     const float w = 0.002f * dist * (1.5f + u());  // a fraction of a pixel to a few pixels wide
-    const float3 c{b.x + w * u(), b.y + w * u(), b.z - dist * 0.05f * u()};
+    const rast::float3 c{b.x + w * u(), b.y + w * u(), b.z - dist * 0.05f * u()};
     const uint32_t base = uint32_t(p.size());
     p.push_back(a);
     p.push_back(b);
