@@ -24,6 +24,12 @@ struct SceneOptions {
   std::string aa = "none", interp = "perspective";
   bool reference = false;
   int referenceGrid = 16;
+  // Post-processing (core/post/): --bloom and --ssao take optional values.
+  double exposure = 0.0;
+  std::string tonemap = "none";
+  std::vector<std::string> bloom, ssao;
+  CLI::Option* bloomOpt = nullptr;
+  CLI::Option* ssaoOpt = nullptr;
 
   void addTo(CLI::App& app);
   // Builds settings and camera; throws Error for malformed values.

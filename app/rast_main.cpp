@@ -54,6 +54,12 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   rs.wantDepth = !aov.depth.empty();
   rs.wantPrimId = !aov.primid.empty();
   rs.wantNormals = !aov.normals.empty();
+  const auto endsWith = [&out](const char* ext) {
+    const std::string e(ext);
+    return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
+  };
+  if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
+  rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
   const Scene scene = loadSceneArg(so.scene);
   const Camera cam = so.camera(scene);
   if (!so.cameraGiven()) std::printf("rast: camera (auto) %s\n", cam.flags().c_str());
@@ -82,7 +88,18 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
       written.push_back(aov.normals);
     }
-    writePng(out, rs.width, rs.height, r.colorTopDown());
+    if (rs.post.floatOutput) {
+      const std::vector<float4> film = r.filmBottomUp();
+      std::vector<float> rgb(film.size() * 3);
+      for (size_t i = 0; i < film.size(); ++i) {
+        rgb[3 * i] = film[i].x;
+        rgb[3 * i + 1] = film[i].y;
+        rgb[3 * i + 2] = film[i].z;
+      }
+      writePfm(out, rs.width, rs.height, 3, rgb.data());
+    } else {
+      writePng(out, rs.width, rs.height, r.colorTopDown());
+    }
   } catch (...) {
     for (const std::string& f : written) std::remove(f.c_str());
     throw;
@@ -111,7 +128,8 @@ int run(int argc, char** argv) {
   std::vector<std::string> aovs;
   CLI::App* render = app.add_subcommand("render", "render one frame to a PNG");
   renderOpts.addTo(*render);
-  render->add_option("-o,--output", out, "colour image (PNG)")->capture_default_str();
+  render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
+      ->capture_default_str();
   render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm");
 
   SceneOptions benchOpts;

@@ -2,6 +2,7 @@
 // and the optional outputs (AOVs).
 #pragma once
 
+#include "post/post_settings.h"
 #include "vec.h"
 
 #include <string>
@@ -52,6 +53,7 @@ struct RenderSettings {
   int referenceGrid = 16;    // samples per pixel side in reference mode
   uint32_t referenceSeed = 1;
   bool perspectiveCorrect = true;  // false: affine (screen-space) interpolation, for comparison
+  PostSettings post;  // exposure, tone mapping, bloom, SSAO, HDR output (core/post/)
 };
 
 // "none", "ssaa2", "ssaa4", "msaa2", "msaa4", "msaa8" -> rs.msaa / rs.ssaa.

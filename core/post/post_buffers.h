@@ -1,0 +1,28 @@
+// The float film and the buffers of the post passes. Each is allocated the
+// first time a pass needs it (grow-only, like every frame buffer) and released
+// when the frame size changes, so a frame that asks for no float path holds
+// none of them.
+#pragma once
+
+#include "../device.h"
+#include "../vec.h"
+
+namespace rast {
+
+struct PostBuffers {
+  DView<float4> hdr;    // per pixel: linear colour (the float film)
+  DView<float4> geom;   // per pixel: view-space normal (xyz) and view depth (w > 0; 0 = background), for SSAO
+  DView<float> ao, aoBlur;       // per pixel: ambient occlusion (1 = open) before and after the bilateral blur
+  DView<float4> half0, half1;    // bloom: bright pass at half resolution and the blur's ping-pong partner
+  DView<float> kernel;           // bloom: Gaussian weights; SSAO: unused
+  DView<float4> samples;         // SSAO: hemisphere sample kernel (xyz, scale in w)
+  int kernelRadius = -1, sampleCount = -1;
+
+  void release() { *this = PostBuffers(); }
+  size_t bytes() const {
+    return viewBytes(hdr) + viewBytes(geom) + viewBytes(ao) + viewBytes(aoBlur) + viewBytes(half0) +
+           viewBytes(half1) + viewBytes(kernel) + viewBytes(samples);
+  }
+};
+
+}  // namespace rast
