@@ -14,6 +14,7 @@
 #include "bench.h"
 #include "guarded_main.h"
 #include "compare_cmd.h"
+#include "ssao_error_cmd.h"
 #include "cli_options.h"
 
 #include <CLI/CLI.hpp>
@@ -26,7 +27,7 @@ namespace rast {
 namespace {
 
 struct AovRequest {
-  std::string depth, primid, normals;
+  std::string depth, primid, normals, ao;
 };
 
 AovRequest parseAovs(const std::vector<std::string>& items) {
@@ -42,7 +43,8 @@ AovRequest parseAovs(const std::vector<std::string>& items) {
       if (k == "depth") r.depth = v;
       else if (k == "primid") r.primid = v;
       else if (k == "normals") r.normals = v;
-      else throw Error("--aov: unknown output '" + k + "' (expected depth, primid or normals)");
+      else if (k == "ao") r.ao = v;
+      else throw Error("--aov: unknown output '" + k + "' (expected depth, primid, normals or ao)");
     }
   }
   return r;
@@ -60,6 +62,7 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   };
   if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
   rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
+  if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
   const Scene scene = loadSceneArg(so.scene);
   const Camera cam = so.camera(scene);
   if (!so.cameraGiven()) std::printf("rast: camera (auto) %s\n", cam.flags().c_str());
@@ -87,6 +90,10 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       const auto n = r.normalsBottomUp();
       writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
       written.push_back(aov.normals);
+    }
+    if (!aov.ao.empty()) {
+      writePfm(aov.ao, rs.width, rs.height, 1, r.aoBottomUp().data());
+      written.push_back(aov.ao);
     }
     if (rs.post.floatOutput) {
       const std::vector<float4> film = r.filmBottomUp();
@@ -130,7 +137,7 @@ int run(int argc, char** argv) {
   renderOpts.addTo(*render);
   render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
       ->capture_default_str();
-  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm");
+  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao)");
 
   SceneOptions benchOpts;
   BenchOptions bo;
@@ -148,12 +155,20 @@ int run(int argc, char** argv) {
   CLI::App* compare = app.add_subcommand("compare", "image error metrics of TEST against the reference REF");
   compareOpts.addTo(*compare);
 
+  // SSAO against a ray-traced reference, per sample count (app/ssao_error_cmd.h).
+  SceneOptions ssaoOpts;
+  SsaoErrorOptions seo;
+  CLI::App* ssaoErr = app.add_subcommand("ssao-error", "SSAO error against ray-traced AO and its cost, per sample count");
+  ssaoOpts.addTo(*ssaoErr);
+  seo.addTo(*ssaoErr);
+
   app.add_subcommand("info", "backend, Kokkos version, threads / device");
 
   if (const std::optional<int> status = parseCommandLine(app, "rast", argc, argv)) return *status;
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
   if (bench->parsed()) return runBench(benchOpts, bo);
   if (compare->parsed()) return runCompare(compareOpts);
+  if (ssaoErr->parsed()) return runSsaoError(ssaoOpts, seo);
   if (exportCmd->parsed()) {
     const Scene s = loadSceneArg(exportScene);
     exportGlb(s, exportOut);

@@ -316,6 +316,8 @@ std::vector<uint32_t> Renderer::colorTopDown() const {
 std::vector<float> Renderer::depthBottomUp() const { return toHost(frame_.depth, size_t(frame_.vp.width) * frame_.vp.height); }
 std::vector<uint32_t> Renderer::primIdsBottomUp() const { return toHost(frame_.primId, size_t(frame_.vp.width) * frame_.vp.height); }
 std::vector<float4> Renderer::filmBottomUp() const { return toHost(frame_.post.hdr, size_t(frame_.vp.width) * frame_.vp.height); }
+std::vector<float4> Renderer::geometryBottomUp() const { return toHost(frame_.post.geom, size_t(frame_.vp.width) * frame_.vp.height); }
+std::vector<float> Renderer::aoBottomUp() const { return toHost(frame_.post.aoBlur, size_t(frame_.vp.width) * frame_.vp.height); }
 std::vector<float3> Renderer::normalsBottomUp() const { return toHost(frame_.normal, size_t(frame_.vp.width) * frame_.vp.height); }
 
 }  // namespace rast

@@ -53,6 +53,10 @@ class Renderer {
   // The float film after the post chain (linear; only when the frame used it:
   // RenderSettings::post.needsFloat(), or supersampling).
   std::vector<float4> filmBottomUp() const;
+  // SSAO's input and output of the last frame with SSAO on: view-space normal
+  // and depth per pixel, and the (blurred) ambient occlusion.
+  std::vector<float4> geometryBottomUp() const;
+  std::vector<float> aoBottomUp() const;
 
   const DeviceScene& scene() const { return scene_; }
   // The method a frame with these settings uses (auto: chosen from the

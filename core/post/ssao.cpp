@@ -1,4 +1,4 @@
-// SSAO: hemisphere sampling in view space from the depth and normals that
+// SSAO: hemisphere ray marching in view space from the depth and normals that
 // shading wrote for every pixel (PostBuffers::geom), then a depth-aware
 // (bilateral) blur that removes the 4x4 rotation pattern, then the film is
 // multiplied by the result. Fixed sample kernel and rotation pattern: the same
@@ -13,6 +13,7 @@ namespace rast {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
+constexpr int kSteps = 4;  // march steps per sample direction
 
 double radicalInverse(uint32_t k, uint32_t base) {
   double inv = 1.0 / base, f = inv, r = 0.0;
@@ -33,9 +34,7 @@ std::vector<float4> ssaoKernel(int n) {
   for (int i = 0; i < n; ++i) {
     const double u1 = (i + 0.5) / n, u2 = radicalInverse(uint32_t(i), 2);
     const double z = std::sqrt(u1), r = std::sqrt(1.0 - u1), phi = 2.0 * 3.14159265358979 * u2;
-    const double s = radicalInverse(uint32_t(i) + 1, 3);
-    const double scale = 0.1 + 0.9 * s * s;
-    k[size_t(i)] = float4{float(r * std::cos(phi) * scale), float(r * std::sin(phi) * scale), float(z * scale), float(scale)};
+    k[size_t(i)] = float4{float(r * std::cos(phi)), float(r * std::sin(phi)), float(z), 1.0f};
   }
   return k;
 }
@@ -81,22 +80,28 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
     const float3 T0 = normalize(cross(a, N)), B0 = cross(N, T0);
     const float ca = ::cosf(ang), sa = ::sinf(ang);
     const float3 T = T0 * ca + B0 * sa, B = cross(N, T);
+    // Each sample is a ray (cosine-weighted direction) marched in kSteps
+    // steps out to the radius, the first step offset per pixel by the same
+    // pattern: occluded when a step lies behind the depth buffer's surface by
+    // no more than the radius (surfaces are assumed that thick).
+    const float jitter = (float(bayer[(y & 3) + 4 * (x & 3)]) + 0.5f) / 16.0f;
     float occluded = 0.0f;
     for (int k = 0; k < ns; ++k) {
       const float4 q = kernel(k);
-      const float3 S = P + (T * q.x + B * q.y + N * q.z) * radius;
-      const float sd = -S.z;
-      if (!(sd > 0.0f)) continue;
-      const int px = int(::floorf((S.x / (sd * tanX) * 0.5f + 0.5f) * float(w)));
-      const int py = int(::floorf((S.y / (sd * tanY) * 0.5f + 0.5f) * float(h)));
-      if (px < 0 || py < 0 || px >= w || py >= h) continue;
-      const float od = geom(int64_t(py) * w + px).w;
-      if (!(od > 0.0f) || !(od < sd - bias)) continue;
-      // Range check: an occluder far in front of the point (a separate object)
-      // fades out instead of darkening a halo around it.
-      const float gap = g.w - od;
-      const float t = gap > radius ? radius / gap : 1.0f;
-      occluded += t * t * (3.0f - 2.0f * t);
+      const float3 dir = T * q.x + B * q.y + N * q.z;
+      for (int j = 0; j < kSteps; ++j) {
+        const float3 S = P + dir * (radius * (float(j) + jitter) / float(kSteps));
+        const float sd = -S.z;
+        if (!(sd > 0.0f)) break;
+        const int px = int(::floorf((S.x / (sd * tanX) * 0.5f + 0.5f) * float(w)));
+        const int py = int(::floorf((S.y / (sd * tanY) * 0.5f + 0.5f) * float(h)));
+        if (px < 0 || py < 0 || px >= w || py >= h) break;
+        const float od = geom(int64_t(py) * w + px).w;
+        if (od > 0.0f && od < sd - bias && sd - od < radius) {
+          occluded += 1.0f;
+          break;
+        }
+      }
     }
     ao(i) = 1.0f - occluded / float(ns);
   });

@@ -9,9 +9,8 @@
 
 namespace rast {
 
-// n fixed hemisphere samples around +z (xyz, unit length times a scale in
-// (0, 1] that puts more samples near the point): cosine-weighted directions
-// from a Hammersley set, scales from the base-3 radical inverse.
+// n fixed hemisphere directions around +z (xyz unit, w = 1): cosine-weighted,
+// from a Hammersley set, as the ray-traced reference distributes its rays.
 std::vector<float4> ssaoKernel(int n);
 
 // The world-space radius a frame uses: the requested one, or 5% of the
