@@ -56,7 +56,7 @@ void SceneOptions::addTo(CLI::App& app) {
   bloomOpt = app.add_option("--bloom", bloom,
                             "bloom, optionally --bloom=THRESHOLD[,STRENGTH[,RADIUS_PX]] (default 1,0.5,16)")
                  ->expected(0, 1);
-  ssaoOpt = app.add_option("--ssao", ssao, "ambient occlusion, optionally --ssao=RADIUS[,SAMPLES] (default auto,16)")
+  ssaoOpt = app.add_option("--ssao", ssao, "ambient occlusion, optionally --ssao=RADIUS[,SAMPLES] (default 0 = auto,8)")
                 ->expected(0, 1);
 }
 

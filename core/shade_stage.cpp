@@ -30,6 +30,7 @@ struct Shade {
   DView<uint32_t> primOut;
   DView<float3> normalOut;
   DView<float4> hdr, geom;  // the float film and SSAO's per-pixel geometry, when used
+  DView<float> viewDepth;   // geom's depth alone, for SSAO's taps
   DView<LightGPU> lights;
   Kokkos::View<Kokkos::MinMaxScalar<float>, Mem> depthRange;  // eye depth of covered pixels (depth mode)
   int32_t width;
@@ -173,6 +174,11 @@ struct Shade {
     return float4{n.x, n.y, n.z, d > 0.0f ? d : 0.0f};
   }
 
+  KOKKOS_INLINE_FUNCTION void writeGeometry(int64_t i, float4 g) const {
+    geom(i) = g;
+    viewDepth(i) = g.w;
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(const int64_t i) const {
     const int32_t X = int32_t(i % width), Y = int32_t(i / width);
     const int S = samples.count;
@@ -190,7 +196,7 @@ struct Shade {
         color(i) = idx0 ? display(shadeFragment(idx0 - 1, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
                         : p.backgroundPacked;
       if (p.wantNormals) normalOut(i) = n0;
-      if (p.wantGeom) geom(i) = viewGeometry(n0, p0);
+      if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
       return;
     }
     // Multisampling: shade once per distinct triangle among the samples, at the
@@ -230,7 +236,7 @@ struct Shade {
     if (p.floatOut) hdr(i) = acc;
     else color(i) = display(acc);
     if (p.wantNormals) normalOut(i) = n0;
-    if (p.wantGeom) geom(i) = viewGeometry(n0, p0);
+    if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
   }
 };
 
@@ -258,7 +264,10 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   if (p.wantPrimId) ensureCapacity(f.primId, "frame.primId", size_t(n));
   if (p.wantNormals) ensureCapacity(f.normal, "frame.normal", size_t(n));
   if (p.floatOut) ensureCapacity(f.post.hdr, "post.hdr", size_t(n));
-  if (p.wantGeom) ensureCapacity(f.post.geom, "post.geom", size_t(n));
+  if (p.wantGeom) {
+    ensureCapacity(f.post.geom, "post.geom", size_t(n));
+    ensureCapacity(f.post.depth, "post.depth", size_t(n));
+  }
   if (p.mode == ShadingMode::Depth) {
     if (!f.depthRange.data()) f.depthRange = decltype(f.depthRange)("frame.depthRange");
     Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.znear, p.zfar, f.vp.samples.count},
@@ -266,7 +275,7 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   }
   Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
-          f.depth, f.primId, f.normal, f.post.hdr, f.post.geom, lights, f.depthRange, f.vp.width, f.vp.samples, p};
+          f.depth, f.primId, f.normal, f.post.hdr, f.post.geom, f.post.depth, lights, f.depthRange, f.vp.width, f.vp.samples, p};
   Kokkos::parallel_for("rast::shade", lightweight(Range(0, n)), k);
 }
 

@@ -12,6 +12,7 @@ namespace rast {
 struct PostBuffers {
   DView<float4> hdr;    // per pixel: linear colour (the float film)
   DView<float4> geom;   // per pixel: view-space normal (xyz) and view depth (w > 0; 0 = background), for SSAO
+  DView<float> depth;   // per pixel: the view depth alone (geom.w), what SSAO's many taps read
   DView<float> ao, aoBlur;       // per pixel: ambient occlusion (1 = open) before and after the bilateral blur
   DView<float4> half0, half1;    // bloom: bright pass at half resolution and the blur's ping-pong partner
   DView<float> kernel;           // bloom: Gaussian weights; SSAO: unused
@@ -20,7 +21,7 @@ struct PostBuffers {
 
   void release() { *this = PostBuffers(); }
   size_t bytes() const {
-    return viewBytes(hdr) + viewBytes(geom) + viewBytes(ao) + viewBytes(aoBlur) + viewBytes(half0) +
+    return viewBytes(hdr) + viewBytes(geom) + viewBytes(depth) + viewBytes(ao) + viewBytes(aoBlur) + viewBytes(half0) +
            viewBytes(half1) + viewBytes(kernel) + viewBytes(samples);
   }
 };

@@ -56,6 +56,7 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
     b.sampleCount = s.ssaoSamples;
   }
   auto geom = b.geom;
+  auto depth = b.depth;
   auto ao = b.ao;
   auto kernel = b.samples;
   const int ns = s.ssaoSamples;
@@ -96,7 +97,7 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
         const int px = int(::floorf((S.x / (sd * tanX) * 0.5f + 0.5f) * float(w)));
         const int py = int(::floorf((S.y / (sd * tanY) * 0.5f + 0.5f) * float(h)));
         if (px < 0 || py < 0 || px >= w || py >= h) break;
-        const float od = geom(int64_t(py) * w + px).w;
+        const float od = depth(int64_t(py) * w + px);
         if (od > 0.0f && od < sd - bias && sd - od < radius) {
           occluded += 1.0f;
           break;
@@ -111,7 +112,7 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
   auto blur = b.aoBlur;
   auto hdr = b.hdr;
   Kokkos::parallel_for("rast::post::ssao::blur", Range(0, n), KOKKOS_LAMBDA(const int64_t i) {
-    const float d = geom(i).w;
+    const float d = depth(i);
     if (!(d > 0.0f)) {
       blur(i) = 1.0f;
       return;
@@ -124,8 +125,9 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
         const int xx = x + dx, yy = y + dy;
         if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
         const int64_t j = int64_t(yy) * w + xx;
-        const float dd = (geom(j).w - d) / tol;
-        if (!(geom(j).w > 0.0f)) continue;
+        const float dj = depth(j);
+        if (!(dj > 0.0f)) continue;
+        const float dd = (dj - d) / tol;
         const float wt = 1.0f / (1.0f + dd * dd);
         sum += ao(j) * wt;
         wsum += wt;
