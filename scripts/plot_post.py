@@ -39,6 +39,7 @@ for scene in dict.fromkeys(r["scene"] for r in rows):
         ax.annotate(r["samples"], (x, y), textcoords="offset points", xytext=(3, 3), fontsize=7)
 r0 = rows[0]
 ax.set_xscale("log")
+ax.set_yscale("log")
 ax.set_xlabel(f"SSAO pass, ms at {r0['width']}x{r0['height']} ({r0['backend']})")
 ax.set_ylabel(f"AO RMSE vs ray-traced ({r0['reference_rays']} rays/pixel, {r0['error_width']}x{r0['error_height']})")
 ax.set_title("SSAO: error against time (labels: samples per pixel)")
