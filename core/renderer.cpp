@@ -101,6 +101,8 @@ void Renderer::prepare(const RenderSettings& rs) {
     frame_.accum = DView<float4>();
     frame_.post.release();
   }
+  if (!supersampling_)
+    frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference, rs.post.ssao, rs.post.bloom);
   // Mipmaps are built the first time a frame needs them.
   const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel;
   if (wantMips && scene_.hasTextures && !scene_.hasMipmaps) scene_.uploadTextures(hostTextures_, true);

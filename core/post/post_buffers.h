@@ -20,6 +20,23 @@ struct PostBuffers {
   int kernelRadius = -1, sampleCount = -1;
 
   void release() { *this = PostBuffers(); }
+  // Frees what the next frame will not use (a pass switched off, or no float
+  // path at all), so the memory report follows the settings.
+  void trim(bool film, bool ssao, bool bloom) {
+    if (!film) return release();
+    if (!ssao) {
+      geom = DView<float4>();
+      depth = DView<float>();
+      ao = aoBlur = DView<float>();
+      samples = DView<float4>();
+      sampleCount = -1;
+    }
+    if (!bloom) {
+      half0 = half1 = DView<float4>();
+      kernel = DView<float>();
+      kernelRadius = -1;
+    }
+  }
   size_t bytes() const {
     return viewBytes(hdr) + viewBytes(geom) + viewBytes(depth) + viewBytes(ao) + viewBytes(aoBlur) + viewBytes(half0) +
            viewBytes(half1) + viewBytes(kernel) + viewBytes(samples);
