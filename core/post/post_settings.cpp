@@ -18,7 +18,8 @@ std::vector<double> numbers(const std::string& s, const char* flag, size_t maxN)
     char* end = nullptr;
     const double d = std::strtod(item.c_str(), &end);
     if (item.empty() || *end != '\0' || !std::isfinite(d))
-      throw Error(std::string(flag) + ": '" + s + "' is not a list of finite numbers");
+      throw Error(std::string(flag) + ": '" + s + "' is not a list of finite numbers (its optional values attach with '=', " +
+                  flag + "=1,2; a scene file goes before " + flag + ")");
     v.push_back(d);
   }
   if (v.size() > maxN) throw Error(std::string(flag) + ": at most " + std::to_string(maxN) + " numbers, got '" + s + "'");
