@@ -45,6 +45,7 @@ int runSsaoError(const SceneOptions& so, const SsaoErrorOptions& o) {
     throw Error("--error-size: expected WxH up to 4096x4096, got '" + o.errorSize + "'");
   const Scene scene = loadSceneArg(so.scene);
   const Camera cam = so.camera(scene);
+  so.applySceneLook(scene, rs, /*still=*/false);
   const float radius = ssaoRadiusFor(rs.post, glm::length(cam.eye - cam.target));
   rs.post.ssaoRadius = radius;
 

@@ -290,6 +290,7 @@ FrameStats Renderer::renderSupersampled(const Camera& cam, const RenderSettings&
     }
     st = render(c, one);
     accumulateColor(frame_, p == 0);
+    if (onPass) onPass(int(p + 1), int(offsets.size()));
   }
   resolveAccumulated(frame_, int(offsets.size()));
   runPost(cam, rs, nullptr);
