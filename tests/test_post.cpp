@@ -230,7 +230,7 @@ TEST_CASE("SSAO darkens the inside of a concave corner and leaves an open plane 
   }
 }
 
-TEST_CASE("the post chain is deterministic: repeated frames are identical; its memory is held only while used", "[post]") {
+TEST_CASE("the post chain is deterministic: repeated frames are identical, and its memory is held only while used", "[post]") {
   const Scene s = cornerScene(true);
   RenderSettings rs;
   rs.width = 96;
