@@ -28,7 +28,9 @@ struct TextureGPU {
   int32_t levels;   // mipmap levels stored after level 0 (1: none)
 };
 
-// A vertex in window space: x, y snapped to fixed point, window depth, 1/w.
+// A vertex in window space: x, y in fixed point with kFineBits (16) fractional
+// bits, which hold the position snapped to 1/256 pixel and the rounding
+// residual (depth_plane.h); window depth, 1/w.
 // Computed once per drawn vertex by the vertex stage for the vertices that need
 // no clipping, and per clipped vertex by the setup; both call snapVertex
 // (raster_common.h), so a triangle gets the same bits either way.
