@@ -30,6 +30,9 @@ struct SceneOptions {
   std::vector<std::string> bloom, ssao;
   CLI::Option* bloomOpt = nullptr;
   CLI::Option* ssaoOpt = nullptr;
+  std::string polygon = "fill";  // points and lines (docs/points-lines.md)
+  bool wireframe = false, hiddenLine = false;
+  double lineWidth = 1.0, pointSize = 1.0;
 
   void addTo(CLI::App& app);
   // Builds settings and camera; throws Error for malformed values.

@@ -51,6 +51,13 @@ struct RasterTri {
   float bary[3][2];                 // barycentrics (b1, b2) of each vertex in the drawn triangle
 };
 
+// A drawn point or line segment: drawn vertex indices (v1 == v0 for a point),
+// the source vertex of v0 (for its colour) and the draw's material.
+struct LineGPU {
+  uint32_t v0, v1, src0;
+  int32_t material;
+};
+
 // Sample positions within a pixel, in 1/256 pixel relative to its centre (y
 // up). One sample at the centre without multisampling; the standard D3D/Vulkan
 // patterns for 2, 4 and 8 samples (see samplePattern()).
