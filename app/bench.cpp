@@ -84,9 +84,9 @@ std::string jsonRow(const BenchRow& b) {
   std::snprintf(buf, sizeof buf,
                 ", \"width\": %d, \"height\": %d, \"frames\": %d, \"total_median_ms\": %.6f, \"total_min_ms\": %.6f"
                 ", \"triangles_in\": %u, \"triangles_raster\": %u, \"raster_work_items\": %u"
-                ", \"device_bytes\": %zu, \"minimum_bytes\": %zu, \"stages_median_ms\": {",
+                ", \"device_bytes\": %zu, \"minimum_bytes\": %zu, \"film_bytes\": %zu, \"stages_median_ms\": {",
                 b.width, b.height, b.frames, b.totalMedianMs, b.totalMinMs, b.stats.trianglesIn, b.stats.rasterTris,
-                b.stats.rasterWork, b.stats.deviceBytes, b.stats.minimumBytes);
+                b.stats.rasterWork, b.stats.deviceBytes, b.stats.minimumBytes, b.stats.filmBytes);
   s += buf;
   for (size_t i = 0; i < b.stageMedianMs.size(); ++i) {
     std::snprintf(buf, sizeof buf, "%s\"%s\": %.6f", i ? ", " : "", b.stageMedianMs[i].first.c_str(), b.stageMedianMs[i].second);
@@ -139,8 +139,9 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
     std::printf(" %10.3f %10.3f %12u %12.1f\n", b.totalMedianMs, b.totalMinMs, b.stats.rasterTris,
                 b.stats.deviceBytes / 1048576.0);
   }
-  std::printf("(milliseconds, median of %d frames after %d warm-up; minimum needed %.1f MiB)\n", bo.frames, bo.warmup,
-              rows[0].stats.minimumBytes / 1048576.0);
+  std::printf("(milliseconds, median of %d frames after %d warm-up; minimum needed %.1f MiB; float film and post "
+              "buffers %.1f MiB)\n",
+              bo.frames, bo.warmup, rows[0].stats.minimumBytes / 1048576.0, rows[0].stats.filmBytes / 1048576.0);
 
   if (!bo.json.empty()) {
     std::ofstream f(bo.json);
@@ -153,13 +154,13 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
     std::ofstream f(bo.csv);
     if (!f) throw Error("cannot write '" + bo.csv + "'");
     f << "scene,requested,method,backend,width,height,frames,total_median_ms,total_min_ms,triangles_in,triangles_raster,"
-         "raster_work_items,device_bytes,minimum_bytes";
+         "raster_work_items,device_bytes,minimum_bytes,film_bytes";
     for (const auto& s : rows[0].stageMedianMs) f << "," << s.first << "_median_ms";
     f << "\n";
     for (const BenchRow& b : rows) {
       f << b.scene << "," << b.requested << "," << b.method << "," << b.backend << "," << b.width << "," << b.height << "," << b.frames << ","
         << b.totalMedianMs << "," << b.totalMinMs << "," << b.stats.trianglesIn << "," << b.stats.rasterTris << ","
-        << b.stats.rasterWork << "," << b.stats.deviceBytes << "," << b.stats.minimumBytes;
+        << b.stats.rasterWork << "," << b.stats.deviceBytes << "," << b.stats.minimumBytes << "," << b.stats.filmBytes;
       for (const auto& s : b.stageMedianMs) f << "," << s.second;
       f << "\n";
     }

@@ -51,6 +51,13 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--raster", raster, "raster method: auto|naive|visbuffer|binned")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
   app.add_option("--background", background, "background colour r,g,b in [0,1], linear (default: black, or the builtin scene's)");
+  app.add_option("--exposure", exposure, "exposure in EV (colour times 2^EV) before tone mapping")->capture_default_str();
+  app.add_option("--tonemap", tonemap, "tone mapping: none|reinhard|aces")->capture_default_str();
+  bloomOpt = app.add_option("--bloom", bloom,
+                            "bloom, optionally --bloom=THRESHOLD[,STRENGTH[,RADIUS_PX]] (default 1,0.5,16)")
+                 ->expected(0, 1);
+  ssaoOpt = app.add_option("--ssao", ssao, "ambient occlusion, optionally --ssao=RADIUS[,SAMPLES] (default 0 = auto,8)")
+                ->expected(0, 1);
   app.add_option("--polygon", polygon, "triangles drawn as: fill|line|point")->capture_default_str();
   app.add_flag("--wireframe", wireframe, "draw triangle edges over the shaded fill");
   app.add_flag("--hidden-line", hiddenLine, "wireframe whose edges are depth-tested against the fill (implies --wireframe)");
@@ -96,6 +103,11 @@ RenderSettings SceneOptions::settings() const {
     const auto bg = parseNumbers(background, "background", 3, 4);
     rs.background = float4{float(bg[0]), float(bg[1]), float(bg[2]), 1.0f};
   }
+  rs.post.exposure = float(exposure);
+  rs.post.tonemap = parseToneMap(tonemap);
+  if (bloomOpt && bloomOpt->count()) parseBloom(bloom.empty() ? std::string() : bloom[0], rs.post);
+  if (ssaoOpt && ssaoOpt->count()) parseSsao(ssao.empty() ? std::string() : ssao[0], rs.post);
+  validate(rs.post);
   return rs;
 }
 

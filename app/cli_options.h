@@ -24,6 +24,12 @@ struct SceneOptions {
   std::string aa, interp = "perspective";  // aa empty: the scene's look for stills, else none
   bool reference = false;
   int referenceGrid = 16;
+  // Post-processing (core/post/): --bloom and --ssao take optional values.
+  double exposure = 0.0;
+  std::string tonemap = "none";
+  std::vector<std::string> bloom, ssao;
+  CLI::Option* bloomOpt = nullptr;
+  CLI::Option* ssaoOpt = nullptr;
   std::string polygon = "fill";  // points and lines (docs/points-lines.md)
   bool wireframe = false, hiddenLine = false;
   double lineWidth = 1.0, pointSize = 1.0;

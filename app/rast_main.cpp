@@ -14,6 +14,7 @@
 #include "bench.h"
 #include "guarded_main.h"
 #include "compare_cmd.h"
+#include "ssao_error_cmd.h"
 #include "cli_options.h"
 #include "progress.h"
 
@@ -29,7 +30,7 @@ namespace rast {
 namespace {
 
 struct AovRequest {
-  std::string depth, primid, normals;
+  std::string depth, primid, normals, ao;
 };
 
 AovRequest parseAovs(const std::vector<std::string>& items) {
@@ -45,7 +46,8 @@ AovRequest parseAovs(const std::vector<std::string>& items) {
       if (k == "depth") r.depth = v;
       else if (k == "primid") r.primid = v;
       else if (k == "normals") r.normals = v;
-      else throw Error("--aov: unknown output '" + k + "' (expected depth, primid or normals)");
+      else if (k == "ao") r.ao = v;
+      else throw Error("--aov: unknown output '" + k + "' (expected depth, primid, normals or ao)");
     }
   }
   return r;
@@ -57,9 +59,16 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   rs.wantDepth = !aov.depth.empty();
   rs.wantPrimId = !aov.primid.empty();
   rs.wantNormals = !aov.normals.empty();
+  const auto endsWith = [&out](const char* ext) {
+    const std::string e(ext);
+    return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
+  };
+  if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
+  rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
+  if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
   // Every output is checked before the (possibly long) render, not after it.
   checkOutputPath(out, "-o");
-  for (const std::string* a : {&aov.depth, &aov.primid, &aov.normals})
+  for (const std::string* a : {&aov.depth, &aov.primid, &aov.normals, &aov.ao})
     if (!a->empty()) checkOutputPath(*a, "--aov");
   const Scene scene = loadSceneArg(so.scene);
   const Camera cam = so.camera(scene);
@@ -92,7 +101,22 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
       written.push_back(aov.normals);
     }
-    writePng(out, rs.width, rs.height, r.colorTopDown());
+    if (!aov.ao.empty()) {
+      writePfm(aov.ao, rs.width, rs.height, 1, r.aoBottomUp().data());
+      written.push_back(aov.ao);
+    }
+    if (rs.post.floatOutput) {
+      const std::vector<float4> film = r.filmBottomUp();
+      std::vector<float> rgb(film.size() * 3);
+      for (size_t i = 0; i < film.size(); ++i) {
+        rgb[3 * i] = film[i].x;
+        rgb[3 * i + 1] = film[i].y;
+        rgb[3 * i + 2] = film[i].z;
+      }
+      writePfm(out, rs.width, rs.height, 3, rgb.data());
+    } else {
+      writePng(out, rs.width, rs.height, r.colorTopDown());
+    }
   } catch (...) {
     for (const std::string& f : written) std::remove(f.c_str());
     throw;
@@ -136,8 +160,9 @@ int run(int argc, char** argv) {
   std::vector<std::string> aovs;
   CLI::App* render = app.add_subcommand("render", "render one frame to a PNG");
   renderOpts.addTo(*render);
-  render->add_option("-o,--output", out, "colour image (PNG)")->capture_default_str();
-  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm");
+  render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
+      ->capture_default_str();
+  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao)");
 
   SceneOptions benchOpts;
   BenchOptions bo;
@@ -155,11 +180,18 @@ int run(int argc, char** argv) {
   CLI::App* compare = app.add_subcommand("compare", "image error metrics of TEST against the reference REF");
   compareOpts.addTo(*compare);
 
+  // SSAO against a ray-traced reference, per sample count (app/ssao_error_cmd.h).
+  SceneOptions ssaoOpts;
+  SsaoErrorOptions seo;
+  CLI::App* ssaoErr = app.add_subcommand("ssao-error", "SSAO error against ray-traced AO and its cost, per sample count");
+  ssaoOpts.addTo(*ssaoErr);
+  seo.addTo(*ssaoErr);
+
   CLI::App* info = app.add_subcommand("info", "backend, Kokkos version, threads / device, builtin scenes");
 
   std::string helpTopic;
   CLI::App* help = app.add_subcommand("help", "show this help, or a command's: rast help render");
-  help->add_option("command", helpTopic, "render, bench, compare, export or info");
+  help->add_option("command", helpTopic, "render, bench, compare, export, ssao-error or info");
 
   if (const std::optional<int> status = parseCommandLine(app, "rast", argc, argv)) return *status;
   if (help->parsed() || app.get_subcommands().empty()) {
@@ -167,16 +199,17 @@ int run(int argc, char** argv) {
       std::cout << app.help();
       return 0;
     }
-    for (CLI::App* sub : {render, bench, exportCmd, compare, info})
+    for (CLI::App* sub : {render, bench, exportCmd, compare, ssaoErr, info})
       if (sub->get_name() == helpTopic) {
         std::cout << sub->help();
         return 0;
       }
-    throw Error("help: no command '" + helpTopic + "' (commands: render, bench, compare, export, info)");
+    throw Error("help: no command '" + helpTopic + "' (commands: render, bench, compare, export, ssao-error, info)");
   }
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
   if (bench->parsed()) return runBench(benchOpts, bo);
   if (compare->parsed()) return runCompare(compareOpts);
+  if (ssaoErr->parsed()) return runSsaoError(ssaoOpts, seo);
   if (exportCmd->parsed()) {
     checkOutputPath(exportOut, "-o");
     const Scene s = loadSceneArg(exportScene);

@@ -1,5 +1,7 @@
 #include "device_scene.h"
 
+#include "color.h"
+
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include <algorithm>
@@ -74,38 +76,12 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.materials = uploadVec("scene.materials", mats);
 
   if (usesTexture) d.uploadTextures(s.textures, false);
-  std::vector<float> lut(256);
-  for (int i = 0; i < 256; ++i) {
-    const double c = i / 255.0;
-    lut[i] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-  }
-  d.srgbToLinear = uploadVec("scene.srgbToLinear", lut);
-  std::vector<float> thr(256);
-  thr[0] = -std::numeric_limits<float>::infinity();
-  for (int b = 1; b < 256; ++b) {
-    // The linear value whose exact sRGB encoding is (b - 0.5) / 255, rounded up
-    // to a float so that "t(b) <= c" reproduces round-to-nearest.
-    const double s = (b - 0.5) / 255.0;
-    const double lin = s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-    float f = float(lin);
-    if (double(f) < lin) f = std::nextafter(f, 2.0f);
-    thr[b] = f;
-  }
-  d.srgbEncode = uploadVec("scene.srgbEncode", thr);
+  d.srgbToLinear = uploadVec("scene.srgbToLinear", srgbDecodeTable());
+  d.srgbEncode = uploadVec("scene.srgbEncode", srgbEncodeThresholds());
   return d;
 }
 
 namespace {
-
-double decodeSrgb(uint32_t b) {
-  const double c = b / 255.0;
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-uint32_t encodeSrgb(double c) {
-  c = std::min(std::max(c, 0.0), 1.0);
-  const double s = c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-  return uint32_t(s * 255.0 + 0.5);
-}
 
 // The next level: each texel the average of its (up to) 2x2 parents, colour in
 // linear light, alpha as stored.
@@ -121,11 +97,11 @@ std::vector<uint32_t> halve(const std::vector<uint32_t>& src, int w, int h, int&
         for (int dx = 0; dx < 2; ++dx) {
           const int sx = std::min(2 * x + dx, w - 1), sy = std::min(2 * y + dy, h - 1);
           const uint32_t c = src[size_t(sy) * w + sx];
-          for (int k = 0; k < 3; ++k) acc[k] += decodeSrgb((c >> (8 * k)) & 0xff);
+          for (int k = 0; k < 3; ++k) acc[k] += srgbDecode(((c >> (8 * k)) & 0xff) / 255.0);
           acc[3] += (c >> 24) / 255.0;
           ++n;
         }
-      out[size_t(y) * nw + x] = encodeSrgb(acc[0] / n) | encodeSrgb(acc[1] / n) << 8 | encodeSrgb(acc[2] / n) << 16 |
+      out[size_t(y) * nw + x] = srgbEncodeByte(acc[0] / n) | srgbEncodeByte(acc[1] / n) << 8 | srgbEncodeByte(acc[2] / n) << 16 |
                                 uint32_t(acc[3] / n * 255.0 + 0.5) << 24;
     }
   return out;

@@ -5,6 +5,7 @@
 #include "device.h"
 #include "device_scene.h"
 #include "gpu_types.h"
+#include "post/post_buffers.h"
 #include "raster_lines.h"
 
 namespace rast {
@@ -33,6 +34,7 @@ struct FrameBuffers {
   DView<uint64_t> vis;       // per pixel: depth and raster triangle (see visKey)
   DView<uint32_t> color;     // per pixel: sRGB RGBA8
   DView<float4> accum;       // per pixel: linear colour sum of supersampling passes
+  PostBuffers post;          // the float film and the post passes' buffers, only when used
   DView<float> depth;        // AOV, allocated on request
   DView<uint32_t> primId;    // AOV, allocated on request
   DView<float3> normal;      // AOV, allocated on request

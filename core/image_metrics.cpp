@@ -1,5 +1,7 @@
 #include "image_metrics.h"
 
+#include "color.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,10 +15,7 @@ namespace {
 const std::array<double, 256>& srgbTable() {
   static const std::array<double, 256> t = [] {
     std::array<double, 256> r{};
-    for (int v = 0; v < 256; ++v) {
-      const double c = v / 255.0;
-      r[v] = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-    }
+    for (int v = 0; v < 256; ++v) r[v] = srgbDecode(v / 255.0);
     return r;
   }();
   return t;

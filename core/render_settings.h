@@ -2,6 +2,7 @@
 // and the optional outputs (AOVs).
 #pragma once
 
+#include "post/post_settings.h"
 #include "vec.h"
 
 #include <string>
@@ -57,6 +58,7 @@ struct RenderSettings {
   int referenceGrid = 16;    // samples per pixel side in reference mode
   uint32_t referenceSeed = 1;
   bool perspectiveCorrect = true;  // false: affine (screen-space) interpolation, for comparison
+  PostSettings post;  // exposure, tone mapping, bloom, SSAO, HDR output (core/post/)
   // Points and lines (docs/points-lines.md): glTF point/line primitives, and
   // triangles drawn as edges or corners.
   PolygonMode polygon = PolygonMode::Fill;

@@ -1,6 +1,9 @@
 #include "renderer.h"
 
 #include "../backends/stage_timer.h"
+#include "color.h"
+#include "post/chain.h"
+#include "post/ssao.h"
 #include "raster_common.h"
 #include "texture_sampling.h"
 
@@ -14,7 +17,7 @@ namespace rast {
 size_t FrameBuffers::bytes() const {
   return viewBytes(mvp) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) +
          viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
-         viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes();
+         viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
 
 uint32_t persistentThreads() {
@@ -96,7 +99,10 @@ void Renderer::prepare(const RenderSettings& rs) {
     frame_.primId = DView<uint32_t>();
     frame_.normal = DView<float3>();
     frame_.accum = DView<float4>();
+    frame_.post.release();
   }
+  if (!supersampling_)
+    frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference, rs.post.ssao, rs.post.bloom);
   // Mipmaps are built the first time a frame needs them.
   const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel;
   if (wantMips && scene_.hasTextures && !scene_.hasMipmaps) scene_.uploadTextures(hostTextures_, true);
@@ -117,7 +123,11 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   const glm::dmat4 vpD = cam.viewProjection(rs.width, rs.height);
   mat4d vp;
   for (int k = 0; k < 16; ++k) vp.m[k] = glm::value_ptr(vpD)[k];
-  const bool needWorld = !(rs.shading == ShadingMode::Depth || rs.shading == ShadingMode::TexCoord) || rs.wantNormals;
+  const bool needWorld =
+      !(rs.shading == ShadingMode::Depth || rs.shading == ShadingMode::TexCoord) || rs.wantNormals || rs.post.ssao;
+  // The float film: when a post pass or an HDR output needs it, and for every
+  // pass of a supersampled frame (resolved in float).
+  const bool film = rs.post.needsFloat() || supersampling_;
   lastMethod_ = resolveMethod(rs);
   lastAuto_ = rs.raster == RasterMethod::Auto;
 
@@ -172,10 +182,28 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   sp.wantPrimId = rs.wantPrimId;
   sp.wantNormals = rs.wantNormals;
   sp.perspective = rs.perspectiveCorrect ? 1 : 0;
+  sp.floatOut = film ? 1 : 0;
+  sp.wantGeom = rs.post.ssao ? 1 : 0;
+  // Raw modes keep the direct path's background bytes.
+  sp.backgroundFilm = isRawShading(rs.shading) ? unpackRaw8(sp.backgroundPacked) : rs.background;
+  const glm::dmat4 view = cam.view();
+  for (int k = 0; k < 16; ++k) sp.view.m[k] = float(glm::value_ptr(view)[k]);
   Kokkos::Profiling::pushRegion("rast::shade");
   shadeStage(scene_, frame_, sp, lights_);
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("shade");
+  if (film && !supersampling_) runPost(cam, rs, timer);
+}
+
+void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
+  PostView v;
+  v.width = rs.width;
+  v.height = rs.height;
+  const glm::dmat4 proj = cam.projection(rs.width, rs.height);
+  v.tanX = float(1.0 / proj[0][0]);
+  v.tanY = float(1.0 / proj[1][1]);
+  v.ssaoRadius = ssaoRadiusFor(rs.post, glm::length(cam.eye - cam.target));
+  runPostChain(frame_.post, v, rs.post, frame_.color, scene_.srgbEncode, isRawShading(rs.shading), timer);
 }
 
 bool Renderer::lastFrameFit(FrameStats* stats) {
@@ -193,6 +221,7 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     stats->method = lastMethod_;
     stats->deviceBytes = deviceBytes();
     stats->minimumBytes = scene_.bytes() + viewBytes(frame_.vis) + viewBytes(frame_.color);
+    stats->filmBytes = frame_.post.bytes() + viewBytes(frame_.accum);
   }
   bool fit = true;
   if (need > frame_.triCapacity) {
@@ -248,21 +277,31 @@ FrameStats Renderer::renderSupersampled(const Camera& cam, const RenderSettings&
   one.msaa = 1;
   one.reference = false;
   if (rs.reference) one.filter = TexFilter::Bilinear;  // 256 bilinear taps integrate the footprint
-  const bool raw = isRawShading(rs.shading);
   const glm::dmat4 vp = cam.viewProjection(rs.width, rs.height);
   FrameStats st;
+  supersampling_ = true;
+  struct Reset {
+    bool& b;
+    ~Reset() { b = false; }
+  } reset{supersampling_};
   for (size_t p = 0; p < offsets.size(); ++p) {
     // Sampling at +offset is drawing the scene shifted by -offset.
     Camera c = cam;
     const glm::dvec3 shift(-2.0 * offsets[p].first / rs.width, -2.0 * offsets[p].second / rs.height, 0.0);
     c.viewProjOverride = glm::translate(glm::dmat4(1.0), shift) * vp;
-    if (p > 0) one.wantDepth = one.wantPrimId = one.wantNormals = false;  // outputs of the first pass
+    if (p > 0) {  // outputs of the first pass
+      one.wantDepth = one.wantPrimId = one.wantNormals = false;
+      one.post.ssao = false;
+    }
     st = render(c, one);
-    accumulateColor(scene_, frame_, raw, p == 0);
+    accumulateColor(frame_, p == 0);
     if (onPass) onPass(int(p + 1), int(offsets.size()));
   }
-  resolveAccumulated(scene_, frame_, int(offsets.size()), raw);
+  resolveAccumulated(frame_, int(offsets.size()));
+  runPost(cam, rs, nullptr);
   Exec().fence();
+  st.filmBytes = frame_.post.bytes() + viewBytes(frame_.accum);
+  st.deviceBytes = deviceBytes();
   return st;
 }
 
@@ -284,6 +323,9 @@ std::vector<uint32_t> Renderer::colorTopDown() const {
 }
 std::vector<float> Renderer::depthBottomUp() const { return toHost(frame_.depth, size_t(frame_.vp.width) * frame_.vp.height); }
 std::vector<uint32_t> Renderer::primIdsBottomUp() const { return toHost(frame_.primId, size_t(frame_.vp.width) * frame_.vp.height); }
+std::vector<float4> Renderer::filmBottomUp() const { return toHost(frame_.post.hdr, size_t(frame_.vp.width) * frame_.vp.height); }
+std::vector<float4> Renderer::geometryBottomUp() const { return toHost(frame_.post.geom, size_t(frame_.vp.width) * frame_.vp.height); }
+std::vector<float> Renderer::aoBottomUp() const { return toHost(frame_.post.aoBlur, size_t(frame_.vp.width) * frame_.vp.height); }
 std::vector<float3> Renderer::normalsBottomUp() const { return toHost(frame_.normal, size_t(frame_.vp.width) * frame_.vp.height); }
 
 }  // namespace rast

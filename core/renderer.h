@@ -25,6 +25,7 @@ struct FrameStats {
   int attempts = 1;           // > 1 when buffers had to grow and the frame was redone
   size_t deviceBytes = 0;     // scene + frame buffers
   size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)
+  size_t filmBytes = 0;       // the float film and post buffers (0 when no float path ran)
 };
 
 class Renderer {
@@ -50,6 +51,13 @@ class Renderer {
   std::vector<float> depthBottomUp() const;
   std::vector<uint32_t> primIdsBottomUp() const;
   std::vector<float3> normalsBottomUp() const;
+  // The float film after the post chain (linear; only when the frame used it:
+  // RenderSettings::post.needsFloat(), or supersampling).
+  std::vector<float4> filmBottomUp() const;
+  // SSAO's input and output of the last frame with SSAO on: view-space normal
+  // and depth per pixel, and the (blurred) ambient occlusion.
+  std::vector<float4> geometryBottomUp() const;
+  std::vector<float> aoBottomUp() const;
 
   const DeviceScene& scene() const { return scene_; }
   // The method a frame with these settings uses (auto: chosen from the
@@ -64,6 +72,7 @@ class Renderer {
  private:
   void prepare(const RenderSettings& rs);
   FrameStats renderSupersampled(const Camera& cam, const RenderSettings& rs);
+  void runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer);
 
   DeviceScene scene_;
   std::vector<Texture> hostTextures_;  // kept to build mipmaps when first needed
@@ -72,6 +81,7 @@ class Renderer {
   std::vector<DirectionalLight> uploadedLights_;
   RasterMethod lastMethod_ = RasterMethod::VisBuffer;
   bool lastAuto_ = false;
+  bool supersampling_ = false;  // inside renderSupersampled: passes shade to the film, no post chain
 
   // What `auto` decides from: statistics of the previous frame's raster
   // triangles (read with the counters after a frame, so no extra round trip).

@@ -30,17 +30,14 @@ struct Shade {
   DView<float> depthOut;
   DView<uint32_t> primOut;
   DView<float3> normalOut;
+  DView<float4> hdr, geom;  // the float film and SSAO's per-pixel geometry, when used
+  DView<float> viewDepth;   // geom's depth alone, for SSAO's taps
   DView<LightGPU> lights;
   Kokkos::View<Kokkos::MinMaxScalar<float>, Mem> depthRange;  // eye depth of covered pixels (depth mode)
   int32_t width;
   SamplePattern samples;
   ShadeParams p;
   LineShade lineShade;  // fragments of points and lines (raster_lines.h)
-
-  KOKKOS_INLINE_FUNCTION uint32_t pack(float4 c) const {
-    return encodeSrgb8(c.x, encode) | encodeSrgb8(c.y, encode) << 8 | encodeSrgb8(c.z, encode) << 16 |
-           uint32_t(clamp01(c.w) * 255.0f + 0.5f) << 24;
-  }
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
     const float zn = 2.0f * d - 1.0f;
@@ -84,7 +81,7 @@ struct Shade {
   // linear light for the lit and depth modes (sRGB-encoded later), raw values
   // for the diagnostic modes (normals, uv, mip level).
   KOKKOS_INLINE_FUNCTION float4 shadeFragment(uint32_t index, int32_t X, int32_t Y, int32_t ox, int32_t oy, float depth,
-                                              float3* normalOutV) const {
+                                              float3* normalOutV, float3* posOutV = nullptr) const {
     const RasterTri& t = tris(index & kLineFlag ? 0 : index);
     if (p.mode == ShadingMode::Depth) {
       const float lo = depthRange().min_val, hi = depthRange().max_val;
@@ -112,6 +109,7 @@ struct Shade {
     const float3 N = normalize(worldNormal(v0) * b0 + worldNormal(v1) * b1 + worldNormal(v2) * b2);
     const float3 P = worldPos(v0) * b0 + worldPos(v1) * b1 + worldPos(v2) * b2;
     if (normalOutV) *normalOutV = N;
+    if (posOutV) *posOutV = P;
     if (p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
       return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, 1.0f};
 
@@ -165,10 +163,23 @@ struct Shade {
   }
 
   KOKKOS_INLINE_FUNCTION uint32_t display(float4 c) const {
-    if (isRawShading(p.mode))
-      return uint32_t(clamp01(c.x) * 255.0f + 0.5f) | uint32_t(clamp01(c.y) * 255.0f + 0.5f) << 8 |
-             uint32_t(clamp01(c.z) * 255.0f + 0.5f) << 16 | 0xff000000u;
-    return pack(c);
+    return isRawShading(p.mode) ? packRaw8(c) : packSrgb8(c, encode);
+  }
+
+  // SSAO's input: view-space normal and depth of the surface at the pixel (the
+  // first sample's); zero where nothing was shaded with a normal.
+  KOKKOS_INLINE_FUNCTION float4 viewGeometry(float3 N, float3 P) const {
+    if (!(dot(N, N) > 0.0f)) return float4{0.0f, 0.0f, 0.0f, 0.0f};
+    const float* m = p.view.m;
+    const float3 n = normalize(float3{m[0] * N.x + m[4] * N.y + m[8] * N.z, m[1] * N.x + m[5] * N.y + m[9] * N.z,
+                                      m[2] * N.x + m[6] * N.y + m[10] * N.z});
+    const float d = -(m[2] * P.x + m[6] * P.y + m[10] * P.z + m[14]);
+    return float4{n.x, n.y, n.z, d > 0.0f ? d : 0.0f};
+  }
+
+  KOKKOS_INLINE_FUNCTION void writeGeometry(int64_t i, float4 g) const {
+    geom(i) = g;
+    viewDepth(i) = g.w;
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(const int64_t i) const {
@@ -181,11 +192,15 @@ struct Shade {
     if (p.wantDepth) depthOut(i) = bitsFloat(uint32_t(key0 >> 32));
     if (p.wantPrimId)
       primOut(i) = idx0 == 0 ? 0 : (idx0 - 1) & kLineFlag ? lineShade.primId((idx0 - 1) & ~kLineFlag) : tris(idx0 - 1).prim + 1;
-    float3 n0{0.0f, 0.0f, 0.0f};
+    float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
     if (S == 1) {
-      color(i) = idx0 ? display(shadeFragment(idx0 - 1, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
-                      : p.backgroundPacked;
+      if (p.floatOut)
+        hdr(i) = idx0 ? shadeFragment(idx0 - 1, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
+      else
+        color(i) = idx0 ? display(shadeFragment(idx0 - 1, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
+                        : p.backgroundPacked;
       if (p.wantNormals) normalOut(i) = n0;
+      if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
       return;
     }
     // Multisampling: shade once per distinct triangle among the samples, at the
@@ -212,15 +227,20 @@ struct Shade {
           sx += samples.ox[r];
           sy += samples.oy[r];
         }
-      float3 n{0.0f, 0.0f, 0.0f};
-      const float4 c = shadeFragment(idx - 1, X, Y, sx / count, sy / count, bitsFloat(uint32_t(key >> 32)), &n);
-      if (s == 0) n0 = n;
+      float3 n{0.0f, 0.0f, 0.0f}, q{0.0f, 0.0f, 0.0f};
+      const float4 c = shadeFragment(idx - 1, X, Y, sx / count, sy / count, bitsFloat(uint32_t(key >> 32)), &n, &q);
+      if (s == 0) {
+        n0 = n;
+        p0 = q;
+      }
       acc = acc + c * float(count);
     }
     const float4 bg = raw ? float4{0.0f, 0.0f, 0.0f, 1.0f} : p.background;
     acc = (acc + bg * float(background)) * (1.0f / float(S));
-    color(i) = display(acc);
+    if (p.floatOut) hdr(i) = acc;
+    else color(i) = display(acc);
     if (p.wantNormals) normalOut(i) = n0;
+    if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
   }
 };
 
@@ -247,6 +267,11 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   if (p.wantDepth) ensureCapacity(f.depth, "frame.depth", size_t(n));
   if (p.wantPrimId) ensureCapacity(f.primId, "frame.primId", size_t(n));
   if (p.wantNormals) ensureCapacity(f.normal, "frame.normal", size_t(n));
+  if (p.floatOut) ensureCapacity(f.post.hdr, "post.hdr", size_t(n));
+  if (p.wantGeom) {
+    ensureCapacity(f.post.geom, "post.geom", size_t(n));
+    ensureCapacity(f.post.depth, "post.depth", size_t(n));
+  }
   if (p.mode == ShadingMode::Depth) {
     if (!f.depthRange.data()) f.depthRange = decltype(f.depthRange)("frame.depthRange");
     Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.znear, p.zfar, f.vp.samples.count},
@@ -254,7 +279,8 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   }
   Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
-          f.depth, f.primId, f.normal, lights, f.depthRange, f.vp.width, f.vp.samples, p, makeLineShade(s, f.lines)};
+          f.depth, f.primId, f.normal, f.post.hdr, f.post.geom, f.post.depth, lights, f.depthRange, f.vp.width, f.vp.samples, p,
+          makeLineShade(s, f.lines)};
   Kokkos::parallel_for("rast::shade", lightweight(Range(0, n)), k);
 }
 

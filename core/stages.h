@@ -50,14 +50,21 @@ struct ShadeParams {
   int32_t headlight;  // 1: one light at the eye, per fragment
   int32_t wantDepth, wantPrimId, wantNormals;
   int32_t perspective;  // 0: affine interpolation (for comparison only)
+  // The float film (core/post/): shading writes linear colour to f.post.hdr
+  // instead of packing RGBA8, and with wantGeom view-space normal and depth
+  // to f.post.geom for every pixel.
+  int32_t floatOut, wantGeom;
+  float4 backgroundFilm;  // the background as the film holds it
+  mat4f view;             // world -> view space (wantGeom)
 };
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
 
-// Supersampling by accumulation: add the frame's colour (decoded to linear
-// light, or raw for the diagnostic modes) into f.accum, then average and encode.
-void accumulateColor(const DeviceScene& s, FrameBuffers& f, bool raw, bool first);
-void resolveAccumulated(const DeviceScene& s, FrameBuffers& f, int passes, bool raw);
+// Supersampling by accumulation in float: add the pass's film (f.post.hdr)
+// into f.accum, then put the average back in the film (encoded by the post
+// chain's encoder).
+void accumulateColor(FrameBuffers& f, bool first);
+void resolveAccumulated(FrameBuffers& f, int passes);
 
 // The standard D3D/Vulkan sample positions for 1, 2, 4 or 8 samples (y up).
 SamplePattern samplePattern(int count);

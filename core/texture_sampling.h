@@ -3,6 +3,7 @@
 // sRGB textures.
 #pragma once
 
+#include "color.h"
 #include "gpu_types.h"
 #include "scene.h"
 
@@ -32,8 +33,7 @@ KOKKOS_INLINE_FUNCTION float reduceCoord(float u, int32_t mode) {
 template <class Texels, class Lut>
 KOKKOS_INLINE_FUNCTION float4 fetchTexel(const TextureGPU& t, const Texels& texels, const Lut& lut, int32_t x,
                                          int32_t y) {
-  const uint32_t c = texels(t.offset + uint32_t(y) * uint32_t(t.width) + uint32_t(x));
-  return {lut(c & 0xff), lut((c >> 8) & 0xff), lut((c >> 16) & 0xff), float(c >> 24) * (1.0f / 255.0f)};
+  return unpackSrgb8(texels(t.offset + uint32_t(y) * uint32_t(t.width) + uint32_t(x)), lut);
 }
 
 // uv (0,0) is the top-left corner of the image (glTF), whose first stored row is
@@ -96,24 +96,6 @@ KOKKOS_INLINE_FUNCTION float4 sampleTrilinear(const TextureGPU& t, const Texels&
   if (f <= 0.0f || k + 1 >= t.levels) return a;
   const float4 b = sampleBilinear(mipLevel(t, k + 1), texels, lut, u, v);
   return a * (1.0f - f) + b * f;
-}
-
-// Linear [0,1] -> sRGB-encoded byte by binary search over the 256 decision
-// thresholds (DeviceScene::srgbEncode, computed in double on the host): eight
-// comparisons instead of a powf, and the same bytes on every backend.
-template <class Table>
-KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8(float c, const Table& t) {
-  uint32_t lo = 0;  // t(0) is -inf: t(lo) <= c always (NaN encodes as 0)
-  for (uint32_t step = 128; step; step >>= 1)
-    if (t(lo + step) <= c) lo += step;
-  return lo;
-}
-
-// Linear [0,1] -> sRGB-encoded byte, with the exact piecewise curve.
-KOKKOS_INLINE_FUNCTION uint32_t linearToSrgb8(float c) {
-  c = clamp01(c);
-  const float s = c <= 0.0031308f ? c * 12.92f : 1.055f * ::powf(c, 1.0f / 2.4f) - 0.055f;
-  return uint32_t(s * 255.0f + 0.5f);
 }
 
 }  // namespace rast

@@ -211,6 +211,16 @@ expect_error("aov output in a nonexistent directory",
 if os.path.exists("/dev/full"):
     expect_error("output device full", ["render", scene, "--size", "64x48", "-o", "/dev/full"], "/dev/full")
 expect_error("--kokkos-threads=abc", render_args(scene, "--kokkos-threads=abc"), "")
+# Post-processing options (docs/post.md).
+expect_error("--tonemap bogus", render_args(scene, "--tonemap", "bogus"), "bogus")
+expect_error("--exposure nan", render_args(scene, "--exposure", "nan"), "exposure")
+expect_error("--bloom=abc", render_args(scene, "--bloom=abc"), "--bloom")
+expect_error("--bloom radius 0", render_args(scene, "--bloom=1,0.5,0"), "--bloom")
+expect_error("--bloom four values", render_args(scene, "--bloom=1,2,3,4"), "--bloom")
+expect_error("--ssao=0.1,0", render_args(scene, "--ssao=0.1,0"), "--ssao")
+expect_error("--ssao negative radius", render_args(scene, "--ssao=-1"), "--ssao")
+expect_error("--aov ao without --ssao", render_args(scene, "--aov", "ao=" + os.path.join(work, "ao.pfm")), "--ssao")
+expect_error("-o out.exr", ["render", scene, "--size", "64x48", "-o", os.path.join(work, "out.exr")], "OpenEXR")
 # CLI11 parse errors (exit 2).
 expect_error("unknown flag", render_args(scene, "--no-such-flag"), "--no-such-flag")
 expect_error("option without its value", ["render", scene, "-o", out_png, "--size"], "--size")

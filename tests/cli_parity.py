@@ -83,5 +83,24 @@ for si, scene in enumerate(scenes):
                       f"max colour diff {cdiff}")
                 passed += ok
                 failed += not ok
+# The post chain (exposure, bloom, SSAO, ACES): Serial and OpenMP within 1/255,
+# and repeated runs identical.
+post = ["--exposure", "0.5", "--bloom=0.6,0.8,12", "--ssao", "--tonemap", "aces"]
+for si, scene in enumerate(s for s in scenes if s in ("", "builtin:overdraw?layers=64") or s.endswith(
+        ("duck.glb", "engine.glb", "2CylinderEngine.glb"))):
+    outs = []
+    for name, exe in exes + [exes[0]]:
+        base = os.path.join(args.workdir, f"post{si}_{name}_{len(outs)}")
+        cmd = [exe, "render"] + ([scene] if scene else []) + ["--size", args.size, "-o", base + ".png"] + post
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        if r.returncode != 0:
+            raise SystemExit(f"FAILED: {' '.join(cmd)}: {r.stderr.strip()}")
+        outs.append((name, rastimg.read_png(base + ".png")[3]))
+    cdiff = max(abs(a - b) for a, b in zip(outs[0][1], outs[1][1]))
+    ok = cdiff <= 1 and outs[0][1] == outs[2][1]
+    print(f"{'ok  ' if ok else 'FAIL'} post chain {scene or '(default)'}: serial vs openmp max colour diff {cdiff}, "
+          f"repeat {'identical' if outs[0][1] == outs[2][1] else 'DIFFERS'}")
+    passed += ok
+    failed += not ok
 print(f"{passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)

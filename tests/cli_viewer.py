@@ -5,11 +5,12 @@
      render's one-line error, before any window opens and without screenshots;
  (b) an orbit by a known drag gives the expected camera, and the viewer's image
      equals `rast render` at the printed camera (and, within 1/255, at the
-     camera computed here from the orbit math); resize and P work;
+     camera computed here from the orbit math); resize and F12 (screenshot) work;
  (c) each mode key changes the picture: C, L, T change the pipeline's image
      (the default scene seen from below the ground, where culling removes the
      ground); M changes the method in use, shown in the overlay (the raster
      methods are bit-identical by design, so the pipeline image may not change);
+     P turns bloom on;
  (d) keys 2/3 switch to wireframe (polygon mode line) and points, each image equal to
      `rast render --polygon line|point`; key 1 returns to the same triangles.
 
@@ -161,7 +162,7 @@ print-camera
 print-state
 screenshot orbit.png
 window-screenshot orbit-window.png
-key P
+key F12
 resize 200 150
 frame
 screenshot resized.png
@@ -201,7 +202,7 @@ if len(cams) == 2 and auto:
 ww, wh, wimg = read_png(wd("orbit-window.png")) if os.path.exists(wd("orbit-window.png")) else (0, 0, b"")
 check((ww, wh) == (W, H), "window screenshot written")
 check(os.path.exists(wd("rast-viewer-001.png")) and os.path.exists(wd("rast-viewer-001-window.png")),
-      "P saved rast-viewer-001.png and rast-viewer-001-window.png")
+      "F12 saved rast-viewer-001.png and rast-viewer-001-window.png")
 if os.path.exists(wd("resized.png")):
     rw, rh, _ = read_png(wd("resized.png"))
     check((rw, rh) == (200, 150), f"resize 200 150 resized the framebuffers ({rw}x{rh})")
@@ -234,10 +235,16 @@ frame
 screenshot m4.png
 print-state
 print-camera
+key P
+frame
+print-state
 """)
 check(r.returncode == 0, f"modes script ran (rc {r.returncode}) {r.stderr.strip()[-300:]}")
 states = [l for l in r.stdout.splitlines() if l.startswith("state: ")]
-check(len(states) == 5, "five states printed")
+check(len(states) == 6, "six states printed")
+if len(states) == 6:
+    check("bloom=off" in states[4] and "bloom=on" in states[5], "key P: bloom off -> on")
+    states = states[:5]
 if len(states) == 5 and all(os.path.exists(wd(f"m{k}.png")) for k in range(5)):
     imgs = [read_png(wd(f"m{k}.png"))[2] for k in range(5)]
     for k, (key, what) in enumerate([("C", "--cull back"), ("M", None), ("L", "--shading blinn-phong"),

@@ -125,7 +125,10 @@ TEST_CASE("anti-aliasing error against the reference: SSAA 4x4 < SSAA 2x2 < none
 
 TEST_CASE("the reference converges: about twice the samples changes it by less than the bound", "[quality][reference]") {
   // 16x16 against 23x23 samples per pixel (2.07 times as many). Bound: RMSE in
-  // linear light below 0.004, and no pixel off by more than 8/255.
+  // linear light below 0.004, and no pixel off by more than 9/255 (8/255 while
+  // every pass was rounded to bytes before averaging; the float resolve of
+  // issue #13 rounds once, which moves single bytes by one either way: 9 on
+  // the default scene at 96x54).
   const Scene s = defaultScene();
   const Camera cam = defaultCamera(s);
   RenderSettings rs;
@@ -143,7 +146,7 @@ TEST_CASE("the reference converges: about twice the samples changes it by less t
     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[i] >> (8 * c) & 0xff) - int(b[i] >> (8 * c) & 0xff)));
   INFO("rmse " << e << ", worst channel difference " << worst);
   CHECK(e < 0.004);
-  CHECK(worst <= 8);
+  CHECK(worst <= 9);
 }
 
 TEST_CASE("mip level selection matches the analytic level of detail", "[quality][mip]") {

@@ -84,7 +84,8 @@ const char* kControls[][2] = {
     {"M / Shift+M", "next / previous raster method"},
     {"L / Shift+L", "next / previous shading: lambert, blinn-phong, then debug views"},
     {"T / Shift+T", "texture filter: bilinear, nearest (, trilinear)"},
-    {"P", "screenshot (rast-viewer-NNN.png + -window.png)"},
+    {"P", "bloom on/off (post-processing: overlay)"},
+    {"F12", "screenshot (rast-viewer-NNN.png + -window.png)"},
     {"O", "overlay on/off"},
     {"H", "help"},
     {"Esc / Q", "quit"},
@@ -158,6 +159,7 @@ class Viewer {
     if (dirty_) renderPipeline();
   }
   void drawOverlay();
+  void drawPostControls();  // exposure, tone mapping, bloom, SSAO with live parameters
   void applyScriptEvent(const ScriptEvent& e);
   void saveScreenshot(const std::string& path);
   void saveWindowScreenshot(const std::string& path);
@@ -352,6 +354,10 @@ void Viewer::onKey(int key, int mods) {
       notice("framed the scene");
       break;
     case GLFW_KEY_P:
+      rs_.post.bloom = !rs_.post.bloom;
+      notice(std::string("bloom ") + (rs_.post.bloom ? "on" : "off"));
+      break;
+    case GLFW_KEY_F12:
       shotRequested_ = true;  // taken between frames, never inside the overlay's frame
       return;
     case GLFW_KEY_H:
@@ -507,10 +513,11 @@ void Viewer::drawOverlay() {
         dirty_ = true;
       }
     }
+    drawPostControls();
     ImGui::PopItemWidth();
     if (ImGui::Button("frame scene (F)")) onKey(GLFW_KEY_F, 0);
     ImGui::SameLine();
-    if (ImGui::Button("screenshot (P)")) onKey(GLFW_KEY_P, 0);
+    if (ImGui::Button("screenshot (F12)")) onKey(GLFW_KEY_F12, 0);
     ImGui::SameLine();
     if (ImGui::Button("help (H)")) help_ = !help_;
     if (!notice_.empty() && msSince(noticeAt_) < 4000.0) {
@@ -601,11 +608,43 @@ void Viewer::takeRequestedShots() {
   saveWindowScreenshot(base + "-window.png");
 }
 
+void Viewer::drawPostControls() {
+  PostSettings p = rs_.post;
+  ImGui::Separator();
+  ImGui::TextUnformatted("post-processing");
+  ImGui::SliderFloat("exposure (EV)", &p.exposure, -6.0f, 6.0f, "%.2f");
+  int tm = int(p.tonemap);
+  const char* names[] = {"none", "reinhard", "aces"};
+  ImGui::Combo("tone map", &tm, names, 3);
+  p.tonemap = ToneMap(tm);
+  ImGui::Checkbox("bloom (P)", &p.bloom);
+  if (p.bloom) {
+    ImGui::SliderFloat("threshold", &p.bloomThreshold, 0.0f, 4.0f, "%.2f");
+    ImGui::SliderFloat("strength", &p.bloomStrength, 0.0f, 4.0f, "%.2f");
+    ImGui::SliderInt("radius (px)", &p.bloomRadius, 2, 128);
+  }
+  ImGui::Checkbox("SSAO", &p.ssao);
+  if (p.ssao) {
+    // 0 is automatic (5% of the distance to the orbit target).
+    const float diag = float(glm::length(boundsHi_ - boundsLo_));
+    ImGui::SliderFloat("AO radius (0 auto)", &p.ssaoRadius, 0.0f, diag > 0.0f ? 0.5f * diag : 1.0f, "%.3g");
+    ImGui::SliderInt("AO samples", &p.ssaoSamples, 1, 64);
+  }
+  const PostSettings& o = rs_.post;
+  if (p.exposure != o.exposure || p.tonemap != o.tonemap || p.bloom != o.bloom || p.bloomThreshold != o.bloomThreshold ||
+      p.bloomStrength != o.bloomStrength || p.bloomRadius != o.bloomRadius || p.ssao != o.ssao ||
+      p.ssaoRadius != o.ssaoRadius || p.ssaoSamples != o.ssaoSamples) {
+    rs_.post = p;
+    dirty_ = true;
+  }
+}
+
 std::string Viewer::stateLine() const {
   char b[256];
-  std::snprintf(b, sizeof b, "--size %dx%d --cull %s --shading %s --filter %s --raster %s --polygon %s method=%s mode=%s",
+  std::snprintf(b, sizeof b, "--size %dx%d --cull %s --shading %s --filter %s --raster %s --polygon %s method=%s mode=%s bloom=%s",
                 rs_.width, rs_.height, toString(rs_.cull), toString(rs_.shading), toString(rs_.filter),
-                toString(rs_.raster), toString(rs_.polygon), toString(renderer_.resolveMethod(rs_)), toString(prim_));
+                toString(rs_.raster), toString(rs_.polygon), toString(renderer_.resolveMethod(rs_)), toString(prim_),
+                rs_.post.bloom ? "on" : "off");
   return b;
 }
 

@@ -7,10 +7,11 @@
 # Steps: GPU list; `rast info`; every Catch2 test of the CUDA build; the CLI
 # parity test, CUDA against the OpenMP build (ids and depth bit-identical,
 # colours within 1/255); `rast bench` of five scenes at 1920x1080 with every
-# raster method (JSON per scene, summary table); kernel launches per frame when
+# raster method (JSON per scene, summary table); the post passes per frame and
+# SSAO error per sample count (CSV, docs/post.md); kernel launches per frame when
 # .device/kokkos_count.so is present. Every step runs even if an earlier one
 # fails; the exit status is non-zero when any failed. Set RAST_SUITE_SKIP to a
-# comma list of steps (tests,parity,bench,count) to leave some out.
+# comma list of steps (tests,parity,bench,post,count) to leave some out.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
@@ -106,6 +107,20 @@ text = "\n".join(lines) + "\n"
 open(os.path.join(out, "bench_summary.md"), "w").write(text)
 print(text)
 PY
+    ;;
+  esac
+
+  # Post-processing passes (docs/post.md): per-pass times at 1920x1080, and
+  # SSAO's error against the ray-traced reference with its cost per sample count.
+  case $skip in *,post,*) ;; *)
+    for s in default duck; do
+      if [ "$s" = default ]; then scene=builtin:default; else scene=$dev/shared/models/$s.glb; fi
+      [ "$s" = default ] || [ -f "$scene" ] || { echo "=== post-$s: $scene absent, skipped"; continue; }
+      step "post-$s" "$dev/cuda/rast" bench "$scene" --size 1920x1080 --frames "$frames" \
+        --exposure 0.5 --bloom --ssao --tonemap aces --csv "$out/post_$s.csv"
+    done
+    [ -f "$dev/shared/models/duck.glb" ] && step post-ssao-error "$dev/cuda/rast" ssao-error "$dev/shared/models/duck.glb" \
+      --size 1920x1080 --error-size 480x270 --rays 256 --samples 1,2,4,8,16,32 --frames 50 --csv "$out/post_ssao.csv"
     ;;
   esac
 

@@ -1,0 +1,38 @@
+#include "color.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rast {
+
+double srgbDecode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+double srgbEncode(double c) {
+  c = std::min(std::max(c, 0.0), 1.0);
+  return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+}
+
+uint32_t srgbEncodeByte(double linear) { return uint32_t(srgbEncode(linear) * 255.0 + 0.5); }
+
+std::vector<float> srgbDecodeTable() {
+  std::vector<float> lut(256);
+  for (int i = 0; i < 256; ++i) lut[i] = float(srgbDecode(i / 255.0));
+  return lut;
+}
+
+std::vector<float> srgbEncodeThresholds() {
+  std::vector<float> thr(256);
+  thr[0] = -std::numeric_limits<float>::infinity();
+  for (int b = 1; b < 256; ++b) {
+    // The linear value whose exact sRGB encoding is (b - 0.5) / 255, rounded up
+    // to a float so that "t(b) <= c" reproduces round-to-nearest.
+    const double lin = srgbDecode((b - 0.5) / 255.0);
+    float f = float(lin);
+    if (double(f) < lin) f = std::nextafter(f, 2.0f);
+    thr[b] = f;
+  }
+  return thr;
+}
+
+}  // namespace rast

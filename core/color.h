@@ -1,0 +1,68 @@
+// The colour film's encodings, in one place: the sRGB transfer curve (exact, in
+// double, for building tables on the host; table-driven in kernels so every
+// backend produces the same bytes) and RGBA8 packing (R in the low byte).
+//
+// Kernels shade linear light. It becomes bytes in exactly one of two ways:
+// the direct path packs each pixel as it is shaded (packSrgb8, when nothing
+// needs the frame in float), or the float film (FrameBuffers::hdr) runs the
+// post chain and then its one encoder (core/post/encode.cpp) packs it.
+#pragma once
+
+#include "vec.h"
+
+#include <vector>
+
+namespace rast {
+
+// Exact curve (IEC 61966-2-1), host side.
+double srgbDecode(double encoded);  // [0,1] encoded -> linear
+double srgbEncode(double linear);   // linear -> [0,1] encoded (clamped)
+uint32_t srgbEncodeByte(double linear);  // rounded to the nearest byte
+
+// Tables uploaded with the scene (DeviceScene::srgbToLinear / srgbEncode).
+std::vector<float> srgbDecodeTable();      // 256 entries: byte -> linear
+std::vector<float> srgbEncodeThresholds(); // 256 entries: byte b encodes linear values in [t(b), t(b+1))
+
+// Linear [0,1] -> sRGB-encoded byte by binary search over the 256 decision
+// thresholds (srgbEncodeThresholds, computed in double on the host): eight
+// comparisons instead of a powf, and the same bytes on every backend.
+template <class Table>
+KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8(float c, const Table& t) {
+  uint32_t lo = 0;  // t(0) is -inf: t(lo) <= c always (NaN encodes as 0)
+  for (uint32_t step = 128; step; step >>= 1)
+    if (t(lo + step) <= c) lo += step;
+  return lo;
+}
+
+// Linear [0,1] -> sRGB-encoded byte, with the exact piecewise curve in float
+// (host values such as the background; kernels use the table).
+KOKKOS_INLINE_FUNCTION uint32_t linearToSrgb8(float c) {
+  c = clamp01(c);
+  const float s = c <= 0.0031308f ? c * 12.92f : 1.055f * ::powf(c, 1.0f / 2.4f) - 0.055f;
+  return uint32_t(s * 255.0f + 0.5f);
+}
+
+KOKKOS_INLINE_FUNCTION uint32_t unorm8(float v) { return uint32_t(clamp01(v) * 255.0f + 0.5f); }
+
+// Light: sRGB-encoded colour, linear alpha.
+template <class Table>
+KOKKOS_INLINE_FUNCTION uint32_t packSrgb8(float4 c, const Table& t) {
+  return encodeSrgb8(c.x, t) | encodeSrgb8(c.y, t) << 8 | encodeSrgb8(c.z, t) << 16 | unorm8(c.w) << 24;
+}
+
+// Data (the diagnostic shading modes: normals, uv, mip level): stored as raw
+// bytes, opaque.
+KOKKOS_INLINE_FUNCTION uint32_t packRaw8(float4 c) {
+  return unorm8(c.x) | unorm8(c.y) << 8 | unorm8(c.z) << 16 | 0xff000000u;
+}
+
+// The inverse of the two packings (linear light, or raw values in [0,1]).
+template <class Lut>
+KOKKOS_INLINE_FUNCTION float4 unpackSrgb8(uint32_t c, const Lut& lut) {
+  return {lut(c & 0xff), lut((c >> 8) & 0xff), lut((c >> 16) & 0xff), float(c >> 24) * (1.0f / 255.0f)};
+}
+KOKKOS_INLINE_FUNCTION float4 unpackRaw8(uint32_t c) {
+  return {(c & 0xff) / 255.0f, ((c >> 8) & 0xff) / 255.0f, ((c >> 16) & 0xff) / 255.0f, 1.0f};
+}
+
+}  // namespace rast
