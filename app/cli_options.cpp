@@ -1,5 +1,7 @@
 #include "cli_options.h"
 
+#include "../core/memory_budget.h"
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -51,6 +53,22 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--raster", raster, "raster method: auto|naive|visbuffer|binned")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
   app.add_option("--background", background, "background colour r,g,b in [0,1], linear")->capture_default_str();
+  app.add_flag("--allow-external-files", allowExternalFiles,
+               "let a glTF file read buffers and images outside its own folder (absolute paths, ..)");
+  app.add_option("--max-memory", maxMemory,
+                 "memory that loading and rendering may use, e.g. 512M or 4G (default: half of physical memory, " +
+                     formatBytes(defaultMemoryBudget()) + " here)");
+}
+
+uint64_t SceneOptions::memoryBudget() const {
+  return maxMemory.empty() ? defaultMemoryBudget() : parseMemorySize(maxMemory);
+}
+
+LoadOptions SceneOptions::loadOptions() const {
+  LoadOptions o;
+  o.allowExternalFiles = allowExternalFiles;
+  o.maxMemory = memoryBudget();
+  return o;
 }
 
 RenderSettings SceneOptions::settings() const {
@@ -87,7 +105,17 @@ RenderSettings SceneOptions::settings() const {
 }
 
 Camera SceneOptions::camera(const Scene& s) const {
-  Camera c = defaultCamera(s, fovy);
+  if (!(fovy > 0.0 && fovy < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
+  Camera c;
+  c.fovyDeg = fovy;
+  try {
+    const Camera framed = defaultCamera(s, fovy);
+    c = framed;
+  } catch (const Error&) {
+    // A scene auto-framing cannot place may still be viewed from a camera the
+    // user gives in full.
+    if (eye.empty() || target.empty() || !znear || !zfar) throw;
+  }
   if (!eye.empty()) c.eye = parseVec3(eye, "eye");
   if (!target.empty()) c.target = parseVec3(target, "target");
   if (!up.empty()) c.up = parseVec3(up, "up");

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "../core/camera.h"
+#include "../core/gltf_loader.h"
 #include "../core/render_settings.h"
 
 #include <CLI/CLI.hpp>
@@ -24,8 +25,14 @@ struct SceneOptions {
   std::string aa = "none", interp = "perspective";
   bool reference = false;
   int referenceGrid = 16;
+  // Security and resource limits (docs/security.md).
+  bool allowExternalFiles = false;
+  std::string maxMemory;  // empty: defaultMemoryBudget()
 
   void addTo(CLI::App& app);
+  // How the scene file may be read, and the bytes loading and rendering may use.
+  LoadOptions loadOptions() const;
+  uint64_t memoryBudget() const;
   // Builds settings and camera; throws Error for malformed values.
   RenderSettings settings() const;
   Camera camera(const Scene& scene) const;

@@ -54,10 +54,10 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   rs.wantDepth = !aov.depth.empty();
   rs.wantPrimId = !aov.primid.empty();
   rs.wantNormals = !aov.normals.empty();
-  const Scene scene = loadSceneArg(so.scene);
+  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
   const Camera cam = so.camera(scene);
   if (!so.cameraGiven()) std::printf("rast: camera (auto) %s\n", cam.flags().c_str());
-  Renderer r(scene);
+  Renderer r(scene, so.memoryBudget());
   const FrameStats st = r.render(cam, rs);
   // AOVs first, the colour image last: a failed write leaves no partial set of
   // outputs behind (the files already written are removed).

@@ -127,7 +127,7 @@ class Viewer {
  public:
   Viewer(const ViewerOptions& o, const Scene& scene, const Camera& cam, const RenderSettings& rs,
          std::vector<ScriptEvent> script)
-      : opts_(o), renderer_(scene), rs_(rs), orbit_(cam), script_(std::move(script)) {
+      : opts_(o), renderer_(scene, o.scene.memoryBudget()), rs_(rs), orbit_(cam), script_(std::move(script)) {
     scene.worldBounds(boundsLo_, boundsHi_);
     std::istringstream dd(deviceDescription());
     for (std::string l; std::getline(dd, l);) {
@@ -698,7 +698,7 @@ int run(int argc, char** argv) {
 
   // Everything that can fail on bad input happens before the window opens.
   const RenderSettings rs = o.scene.settings();
-  const Scene scene = loadSceneArg(o.scene.scene);
+  const Scene scene = loadSceneArg(o.scene.scene, o.scene.loadOptions());
   const Camera cam = o.scene.camera(scene);
   std::vector<ScriptEvent> script;
   if (!o.script.empty()) script = loadScript(o.script);
