@@ -108,6 +108,8 @@ expect_error(f"{os.path.getsize(os.path.join(scene_dir, 'huge.png')) // 1024} Ki
 strip = adversarial.strip(work, indices=4_000_000)
 expect_error("4 MB strip of 4M u8 indices (256 MiB budget)", ["render", strip, "--max-memory", "256M"] + small,
              ["mesh primitive (3 vertices, 3999998 triangles) needs", "256 MiB"], max_rss_mib=200)
+expect_error("builtin:tiny?n=1e12", ["render", "builtin:tiny?n=1e12"] + small, "outside 1..134217728", max_rss_mib=200)
+expect_error("builtin:grid?n=1e30", ["render", "builtin:grid?n=1e30"] + small, "outside 1..8192", max_rss_mib=200)
 expect_error("malformed --max-memory", ["render", "--max-memory", "lots"] + small, "--max-memory: expected a size")
 
 # ---------------------------------------------------------------- external files
