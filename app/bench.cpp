@@ -3,6 +3,7 @@
 #include "../backends/stage_timer.h"
 #include "../core/renderer.h"
 #include "../models/procedural.h"
+#include "progress.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -37,7 +38,9 @@ BenchRow benchOne(Renderer& r, const Camera& cam, const RenderSettings& rs, cons
   std::vector<std::string> order;
   std::vector<double> totals;
   const bool supersampled = rs.ssaa > 1 || rs.reference;
+  Progress progress(std::string("rast: bench ") + toString(rs.raster) + ", frame");
   for (int i = 0; i < bo.frames; ++i) {
+    progress.update(i + 1, bo.frames);
     if (supersampled) {
       // SSAA and the reference are many passes of the whole pipeline (each
       // checked for buffer growth): timed as one stage, wall clock to the end.
@@ -95,8 +98,8 @@ std::string jsonRow(const BenchRow& b) {
 }  // namespace
 
 void BenchOptions::addTo(CLI::App& app) {
-  app.add_option("--frames", frames, "timed frames (median reported)")->capture_default_str()->check(CLI::Range(1, 1000000));
-  app.add_option("--warmup", warmup, "untimed frames first")->capture_default_str()->check(CLI::Range(0, 1000000));
+  app.add_option("--frames", frames, "timed frames (their median is reported)")->capture_default_str()->check(CLI::Range(1, 1000000));
+  app.add_option("--warmup", warmup, "untimed frames first (grow buffers, warm caches)")->capture_default_str()->check(CLI::Range(0, 1000000));
   app.add_option("--json", json, "write the rows as a JSON array to this file");
   app.add_option("--csv", csv, "write the rows as CSV to this file");
   app.add_flag("--all-methods", allMethods, "bench every raster method, then auto (overrides --raster)");
@@ -107,6 +110,7 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
   RenderSettings rs = so.settings();
   const Scene scene = loadSceneArg(so.scene, so.loadOptions());
   const Camera cam = so.camera(scene);
+  so.applySceneLook(scene, rs, /*still=*/false);
   const std::string sceneName = so.scene.empty() ? "builtin:default" : so.scene;
   std::printf("rast: bench %s at %dx%d on %s, camera %s\n", sceneName.c_str(), rs.width, rs.height, Exec::name(),
               cam.flags().c_str());

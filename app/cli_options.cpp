@@ -39,20 +39,20 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--eye", eye, "camera position x,y,z (default: frame the scene)");
   app.add_option("--target", target, "point looked at x,y,z");
   app.add_option("--up", up, "up vector x,y,z");
-  app.add_option("--fovy", fovy, "vertical field of view, degrees")->capture_default_str();
+  app.add_option("--fovy", fovy, "vertical field of view, degrees (default: the scene's camera's, else 45)");
   app.add_option("--near", znear, "near plane distance");
   app.add_option("--far", zfar, "far plane distance");
   app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
   app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth|uv|miplevel")->capture_default_str();
   app.add_option("--filter", filter, "texture filter: nearest|bilinear|trilinear")->capture_default_str();
-  app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8")->capture_default_str();
+  app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8 (default: none; msaa4 for the default scene's image)");
   app.add_flag("--reference", reference, "ground truth: 16x16 stratified samples per pixel (slow on purpose)");
   app.add_option("--reference-grid", referenceGrid, "reference samples per pixel side")->capture_default_str();
   app.add_option("--interp", interp, "attribute interpolation: perspective|affine (affine only to compare)")
       ->capture_default_str();
   app.add_option("--raster", raster, "raster method: auto|naive|visbuffer|binned")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
-  app.add_option("--background", background, "background colour r,g,b in [0,1], linear")->capture_default_str();
+  app.add_option("--background", background, "background colour r,g,b in [0,1], linear (default: black, or the builtin scene's)");
   app.add_flag("--allow-external-files", allowExternalFiles,
                "let a glTF file read buffers and images outside its own folder (absolute paths, ..)");
   app.add_option("--max-memory", maxMemory,
@@ -85,7 +85,7 @@ RenderSettings SceneOptions::settings() const {
   rs.shading = parseShading(shading);
   rs.filter = parseFilter(filter);
   rs.raster = parseRaster(raster);
-  parseAA(aa, rs);
+  parseAA(aa.empty() ? "none" : aa, rs);
   rs.reference = reference;
   rs.referenceGrid = referenceGrid;
   if (referenceGrid < 1 || referenceGrid > 64) throw Error("--reference-grid must be 1..64");
@@ -99,29 +99,42 @@ RenderSettings SceneOptions::settings() const {
     d.intensity = v.size() == 4 ? float(v[3]) : 0.85f;
     rs.lights.push_back(d);
   }
-  const auto bg = parseNumbers(background, "background", 3, 4);
-  rs.background = float4{float(bg[0]), float(bg[1]), float(bg[2]), 1.0f};
+  if (!background.empty()) {
+    const auto bg = parseNumbers(background, "background", 3, 4);
+    rs.background = float4{float(bg[0]), float(bg[1]), float(bg[2]), 1.0f};
+  }
   return rs;
 }
 
+void SceneOptions::applySceneLook(const Scene& scene, RenderSettings& rs, bool still) const {
+  const SceneLook& look = scene.look;
+  if (background.empty() && look.background) rs.background = *look.background;
+  if (lights.empty() && !look.lights.empty()) {
+    rs.lights.clear();
+    for (const float4& l : look.lights) rs.lights.push_back(DirectionalLight{float3{l.x, l.y, l.z}, l.w});
+  }
+  if (still && aa.empty() && !reference && look.msaa > 1) rs.msaa = look.msaa;
+}
+
 Camera SceneOptions::camera(const Scene& s) const {
-  if (!(fovy > 0.0 && fovy < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
+  // A builtin scene's own camera keeps its field of view unless --fovy is given.
+  if (fovy && !(*fovy > 0.0 && *fovy < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
   Camera c;
-  c.fovyDeg = fovy;
   try {
-    const Camera framed = defaultCamera(s, fovy);
+    const Camera framed = defaultCamera(s, fovy.value_or(45.0));
     c = framed;
   } catch (const Error&) {
     // A scene auto-framing cannot place may still be viewed from a camera the
     // user gives in full.
     if (eye.empty() || target.empty() || !znear || !zfar) throw;
   }
+  if (fovy) c.fovyDeg = *fovy;
   if (!eye.empty()) c.eye = parseVec3(eye, "eye");
   if (!target.empty()) c.target = parseVec3(target, "target");
   if (!up.empty()) c.up = parseVec3(up, "up");
   if (znear) c.znear = *znear;
   if (zfar) c.zfar = *zfar;
-  if (!(fovy > 0.0 && fovy < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
+  if (!(c.fovyDeg > 0.0 && c.fovyDeg < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
   if (!(c.znear > 0.0) || !(c.zfar > c.znear) || !std::isfinite(c.zfar))
     throw Error("--near/--far: need 0 < near < far");
   if (glm::length(c.eye - c.target) == 0.0) throw Error("--eye and --target must differ");

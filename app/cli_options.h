@@ -17,12 +17,12 @@ struct SceneOptions {
   std::string scene;  // empty: the embedded default scene
   std::string size = "1920x1080";
   std::string eye, target, up;  // empty: auto-framing
-  double fovy = 45.0;
+  std::optional<double> fovy;  // empty: the scene's camera's, or 45 degrees for auto-framing
   std::optional<double> znear, zfar;
   std::string cull = "none", shading = "lambert", filter = "bilinear", raster = "auto";
   std::vector<std::string> lights;
-  std::string background = "0,0,0";
-  std::string aa = "none", interp = "perspective";
+  std::string background;  // empty: the scene's look, else black
+  std::string aa, interp = "perspective";  // aa empty: the scene's look for stills, else none
   bool reference = false;
   int referenceGrid = 16;
   // Security and resource limits (docs/security.md).
@@ -36,8 +36,15 @@ struct SceneOptions {
   // Builds settings and camera; throws Error for malformed values.
   RenderSettings settings() const;
   Camera camera(const Scene& scene) const;
+  // Fills what the command line left open from the scene's own look
+  // (background, key and fill lights; anti-aliasing only for `still` images,
+  // where its cost is a fraction of a second, not for interactive or timed frames).
+  void applySceneLook(const Scene& scene, RenderSettings& rs, bool still) const;
   bool cameraGiven() const { return !eye.empty() || !target.empty() || !up.empty(); }
 };
+
+// "scene" when the scene carries its own camera, "auto" when it is framed.
+inline const char* cameraOrigin(const Scene& s) { return s.camera ? "scene" : "auto"; }
 
 // Parses the command line into `app`. Returns the exit status when the program
 // is to stop here: 0 after --help, 2 after a malformed command line, reported

@@ -9,6 +9,9 @@ namespace rast {
 
 // Returns the program's exit status: run()'s, 1 after an error, 2 when Kokkos
 // itself cannot start (e.g. a malformed --kokkos-* flag).
+// True when OMP_PROC_BIND was unset and rast chose it (false: no pinning).
+bool openMPBindingIsDefault();
+
 int guardedMain(const char* program, int argc, char** argv, const std::function<int(int, char**)>& run);
 
 }  // namespace rast

@@ -15,10 +15,13 @@
 #include "guarded_main.h"
 #include "compare_cmd.h"
 #include "cli_options.h"
+#include "progress.h"
 
 #include <CLI/CLI.hpp>
+#include <Kokkos_Core.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -54,10 +57,17 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   rs.wantDepth = !aov.depth.empty();
   rs.wantPrimId = !aov.primid.empty();
   rs.wantNormals = !aov.normals.empty();
+  // Every output is checked before the (possibly long) render, not after it.
+  checkOutputPath(out, "-o");
+  for (const std::string* a : {&aov.depth, &aov.primid, &aov.normals})
+    if (!a->empty()) checkOutputPath(*a, "--aov");
   const Scene scene = loadSceneArg(so.scene, so.loadOptions());
   const Camera cam = so.camera(scene);
-  if (!so.cameraGiven()) std::printf("rast: camera (auto) %s\n", cam.flags().c_str());
+  so.applySceneLook(scene, rs, /*still=*/true);
+  if (!so.cameraGiven()) std::printf("rast: camera (%s) %s\n", cameraOrigin(scene), cam.flags().c_str());
   Renderer r(scene, so.memoryBudget());
+  Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
+  if (progress.active()) r.onPass = [&progress](int done, int total) { progress.update(done, total); };
   const FrameStats st = r.render(cam, rs);
   // AOVs first, the colour image last: a failed write leaves no partial set of
   // outputs behind (the files already written are removed).
@@ -87,24 +97,39 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
     for (const std::string& f : written) std::remove(f.c_str());
     throw;
   }
-  std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s)\n", out.c_str(), rs.width, rs.height,
-              st.trianglesIn, st.rasterTris, toString(st.method));
+  std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s, aa %s)\n", out.c_str(), rs.width,
+              rs.height, st.trianglesIn, st.rasterTris, toString(st.method), aaName(rs).c_str());
   return 0;
 }
 
 int cmdInfo() {
   std::cout << deviceDescription();
+  const char* bind = std::getenv("OMP_PROC_BIND");
+  std::printf("OMP_PROC_BIND: %s (%s)\n", bind ? bind : "unset", openMPBindingIsDefault() ? "default" : "yours");
   std::cout << "raster methods:";
   for (RasterMethod m : allRasterMethods()) std::cout << " " << toString(m);
-  std::cout << "\nbuiltin scenes:";
-  for (const auto& n : builtinSceneNames()) std::cout << " builtin:" << n;
-  std::cout << "\n";
+  std::cout << "\nbuiltin scenes:\n";
+  for (const BuiltinSceneInfo& b : builtinScenes()) {
+    const std::string name = "builtin:" + b.name;
+    std::printf("  %-20s %s\n", name.c_str(), b.description.c_str());
+  }
   return 0;
 }
 
+std::string versionText() {
+  char b[160];
+  std::snprintf(b, sizeof b, "rast %s (Kokkos %d.%d.%d, %s backend)", RAST_VERSION, KOKKOS_VERSION / 10000,
+                KOKKOS_VERSION / 100 % 100, KOKKOS_VERSION % 100, Exec::name());
+  return b;
+}
+
 int run(int argc, char** argv) {
-  CLI::App app{"rast: a portable Kokkos rasterizer for glTF 2.0 scenes"};
-  app.require_subcommand(1);
+  CLI::App app{"rast: a portable Kokkos rasterizer for glTF 2.0 scenes", "rast"};
+  app.require_subcommand(0, 1);
+  app.set_version_flag("--version", versionText());
+  // Kokkos' own flags reach Kokkos (app/guarded_main); here they get one line.
+  app.footer("Kokkos options (--kokkos-threads=N, --kokkos-device-id=N, ...): rast --kokkos-help\n"
+             "Help on a command: rast help COMMAND, or rast COMMAND --help");
 
   SceneOptions renderOpts;
   std::string out = "out.png";
@@ -130,13 +155,30 @@ int run(int argc, char** argv) {
   CLI::App* compare = app.add_subcommand("compare", "image error metrics of TEST against the reference REF");
   compareOpts.addTo(*compare);
 
-  app.add_subcommand("info", "backend, Kokkos version, threads / device");
+  CLI::App* info = app.add_subcommand("info", "backend, Kokkos version, threads / device, builtin scenes");
+
+  std::string helpTopic;
+  CLI::App* help = app.add_subcommand("help", "show this help, or a command's: rast help render");
+  help->add_option("command", helpTopic, "render, bench, compare, export or info");
 
   if (const std::optional<int> status = parseCommandLine(app, "rast", argc, argv)) return *status;
+  if (help->parsed() || app.get_subcommands().empty()) {
+    if (helpTopic.empty()) {
+      std::cout << app.help();
+      return 0;
+    }
+    for (CLI::App* sub : {render, bench, exportCmd, compare, info})
+      if (sub->get_name() == helpTopic) {
+        std::cout << sub->help();
+        return 0;
+      }
+    throw Error("help: no command '" + helpTopic + "' (commands: render, bench, compare, export, info)");
+  }
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
   if (bench->parsed()) return runBench(benchOpts, bo);
   if (compare->parsed()) return runCompare(compareOpts);
   if (exportCmd->parsed()) {
+    checkOutputPath(exportOut, "-o");
     const Scene s = loadSceneArg(exportScene);
     exportGlb(s, exportOut);
     std::printf("rast: wrote %s (%u triangles); view it with %s\n", exportOut.c_str(), s.triangleCount(),

@@ -321,6 +321,7 @@ FrameStats Renderer::renderSupersampled(const Camera& cam, const RenderSettings&
     if (p > 0) one.wantDepth = one.wantPrimId = one.wantNormals = false;  // outputs of the first pass
     st = render(c, one);
     accumulateColor(scene_, frame_, raw, p == 0);
+    if (onPass) onPass(int(p + 1), int(offsets.size()));
   }
   resolveAccumulated(scene_, frame_, int(offsets.size()), raw);
   Exec().fence();

@@ -8,6 +8,7 @@
 #include "render_settings.h"
 #include "stages.h"
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -57,6 +58,10 @@ class Renderer {
   // previous frame's statistics; see chooseAuto in renderer.cpp).
   RasterMethod resolveMethod(const RenderSettings& rs) const;
   size_t deviceBytes() const { return scene_.bytes() + frame_.bytes(); }
+
+  // Called after each pass of a supersampled frame with (passes done, total):
+  // lets a command line show progress on long reference renders. Empty: silent.
+  std::function<void(int, int)> onPass;
 
  private:
   void prepare(const RenderSettings& rs);

@@ -56,9 +56,19 @@ struct SceneCamera {
   double fovyDeg = 45.0, znear = 0.1, zfar = 100.0;
 };
 
+// How a scene asks to be shown when the command line does not say (the embedded
+// default scene, the stress scenes): glTF files keep rast's neutral defaults, so
+// that they compare pixel for pixel with glref.
+struct SceneLook {
+  std::optional<float4> background;  // linear
+  std::vector<float4> lights;        // directional: xyz towards the light, w intensity
+  int msaa = 1;                      // anti-aliasing for single images (`rast render`)
+};
+
 struct Scene {
   std::string name;
   std::optional<SceneCamera> camera;
+  SceneLook look;
   // Vertex streams. normals always has one entry per vertex (flat normals are
   // generated where a file has none); uvs and colors are empty when no
   // primitive of the scene uses them, so unused attributes cost nothing.

@@ -19,6 +19,11 @@ Scene defaultScene();
 Scene builtinScene(const std::string& spec);
 std::vector<std::string> builtinSceneNames();
 
+struct BuiltinSceneInfo {
+  std::string name, description;  // description: a few words for `rast info`
+};
+const std::vector<BuiltinSceneInfo>& builtinScenes();
+
 // Loads a scene argument: empty -> the default scene, "builtin:..." -> a
 // procedural scene, anything else -> a glTF file (read as `options` allow).
 Scene loadSceneArg(const std::string& arg, const LoadOptions& options = {});

@@ -46,22 +46,26 @@ struct Builder {
   }
   // A grid of cells x cells quads over [x0,x1]x[y0,y1] at depth z: closed (no
   // holes) and watertight, so any hole or double hit is a rasteriser bug.
-  void grid(int cells, double x0, double y0, double x1, double y1, double z, int32_t mat) {
+  // `colour`, when given, colours each vertex from its (u, v) in [0,1]^2.
+  void grid(int cells, double x0, double y0, double x1, double y1, double z, int32_t mat,
+            float4 (*colour)(double u, double v) = nullptr) {
     // 2 x 8192^2 = 134M triangles; more is a typo (n=1e12), not a test scene.
     if (cells > 8192) throw Error(s.name + ": at most 8192x8192 grid cells (about 134M triangles)");
     std::vector<float3> p, n;
+    std::vector<float4> c;
     std::vector<uint32_t> idx;
     for (int j = 0; j <= cells; ++j)
       for (int i = 0; i <= cells; ++i) {
         p.push_back({float(x0 + (x1 - x0) * i / cells), float(y0 + (y1 - y0) * j / cells), float(z)});
         n.push_back({0, 0, 1});
+        if (colour) c.push_back(colour(double(i) / cells, double(j) / cells));
       }
     for (int j = 0; j < cells; ++j)
       for (int i = 0; i < cells; ++i) {
         const uint32_t a = j * (cells + 1) + i, b = a + 1, c = a + cells + 1, d = c + 1;
         idx.insert(idx.end(), {a, b, d, a, d, c});
       }
-    add(p, idx, mat, &n);
+    s.draws.push_back(Draw{addPrim(s, p, &n, nullptr, colour ? &c : nullptr, idx, mat), glm::dmat4(1.0)});
   }
 };
 
@@ -101,10 +105,18 @@ Scene bigtri(const Params& p) {
 Scene tiny(const Params& p) {
   // About n sub-pixel to pixel-sized triangles tiling the view (at 1920x1080
   // and n = 1M, two triangles share about two pixels).
+  // Vertex colours (a hue wheel with rings) show that the sub-pixel triangles
+  // are there: one flat colour would render as an empty grey frame.
   Builder b("tiny");
   const double n = count(p, "n", 1000000.0, 1, 2.0 * 8192 * 8192);
   const int cells = std::max(1, int(std::sqrt(n / 2.0)));
-  b.grid(cells, -kHalfW, -kHalfH, kHalfW, kHalfH, 0.0, b.material({0.8f, 0.8f, 0.8f, 1}));
+  b.grid(cells, -kHalfW, -kHalfH, kHalfW, kHalfH, 0.0, b.material({1, 1, 1, 1}), [](double u, double v) {
+    const double x = (u - 0.5) * 16.0 / 9.0, y = v - 0.5;
+    const double angle = std::atan2(y, x) / (2.0 * M_PI) + 0.5, radius = std::sqrt(x * x + y * y);
+    const float4 c = hue(int(angle * 3600.0), 3600);
+    const float ring = float(0.7 + 0.3 * std::cos(radius * 40.0));
+    return float4{c.x * ring, c.y * ring, c.z * ring, 1.0f};
+  });
   return b.s;
 }
 
@@ -238,32 +250,55 @@ Params parseParams(const std::string& q) {
   return p;
 }
 
+// One row per scene: its name, what it is for, and how it is built.
+struct StressSceneRow {
+  StressSceneInfo info;
+  Scene (*build)(const Params&);
+};
+
+const std::vector<StressSceneRow>& stressSceneTable() {
+  static const std::vector<StressSceneRow> rows = {
+      {{"bigtri", "two triangles far larger than the screen (?scale=)"}, bigtri},
+      {{"tiny", "a million sub-pixel triangles, vertex-coloured (?n=)"}, tiny},
+      {{"overdraw", "64 full-screen layers (?layers=&order=front|back)"}, overdraw},
+      {{"slivers", "needle fan and sub-pixel-thin slivers"}, slivers},
+      {{"nearplane", "floor and wall crossing the near plane, eye inside"}, nearplane},
+      {{"degenerate", "zero-area, NaN and infinite triangles among good ones"}, degenerate},
+      {{"extreme", "the same content at 1e6 or 1e-6 scale (?scale=)"}, extreme},
+      {{"zfight", "coplanar and crossing planes: ties in depth"}, zfight},
+      {{"grid", "a 2n^2-triangle grid for triangle-size sweeps (?n=)"}, gridScene},
+  };
+  return rows;
+}
+
 }  // namespace
 
-const std::vector<std::string>& stressSceneNames() {
-  static const std::vector<std::string> names = {"bigtri", "tiny", "overdraw", "slivers", "nearplane",
-                                                 "degenerate", "extreme", "zfight", "grid"};
-  return names;
+const std::vector<StressSceneInfo>& stressScenes() {
+  static const std::vector<StressSceneInfo> infos = [] {
+    std::vector<StressSceneInfo> v;
+    for (const StressSceneRow& r : stressSceneTable()) v.push_back(r.info);
+    return v;
+  }();
+  return infos;
+}
+
+std::vector<std::string> stressSceneNames() {
+  std::vector<std::string> v;
+  for (const StressSceneInfo& i : stressScenes()) v.push_back(i.name);
+  return v;
 }
 
 bool makeStressScene(const std::string& nameAndParams, Scene& out) {
   const auto q = nameAndParams.find('?');
   const std::string name = nameAndParams.substr(0, q);
-  const Params p = parseParams(q == std::string::npos ? "" : nameAndParams.substr(q + 1));
-  Scene s;
-  if (name == "bigtri") s = bigtri(p);
-  else if (name == "tiny") s = tiny(p);
-  else if (name == "overdraw") s = overdraw(p);
-  else if (name == "slivers") s = slivers(p);
-  else if (name == "nearplane") s = nearplane(p);
-  else if (name == "degenerate") s = degenerate(p);
-  else if (name == "extreme") s = extreme(p);
-  else if (name == "zfight") s = zfight(p);
-  else if (name == "grid") s = gridScene(p);
-  else return false;
-  s.name = "builtin:" + nameAndParams;
-  out = std::move(s);
-  return true;
+  for (const StressSceneRow& r : stressSceneTable()) {
+    if (name != r.info.name) continue;
+    Scene s = r.build(parseParams(q == std::string::npos ? "" : nameAndParams.substr(q + 1)));
+    s.name = "builtin:" + nameAndParams;
+    out = std::move(s);
+    return true;
+  }
+  return false;
 }
 
 }  // namespace rast

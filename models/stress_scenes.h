@@ -9,7 +9,12 @@
 
 namespace rast {
 
-const std::vector<std::string>& stressSceneNames();
+struct StressSceneInfo {
+  const char* name;
+  const char* description;  // what it stresses and its parameters, in a few words
+};
+const std::vector<StressSceneInfo>& stressScenes();
+std::vector<std::string> stressSceneNames();
 // Builds "name[?k=v&...]" into out; false when the name is not a stress scene.
 bool makeStressScene(const std::string& nameAndParams, Scene& out);
 

@@ -16,6 +16,8 @@
 # cmake/RastKokkos.cmake finds without further flags.
 #
 # Options:
+#   --check-source-index  only make Debian's trilinos source package visible to apt
+#                (the step fresh machines failed at random), then stop
 #   --no-viewer  skip the windowed viewer's packages (GLFW, Dear ImGui, Xvfb, Mesa GL/EGL),
 #                which are installed by default so that the viewer is built and tested
 #   -h|--help  show this help
@@ -39,8 +41,10 @@ first_line() { sed -n '1p'; }
 die() { printf '[bootstrap] ERROR: %s\n' "$*" >&2; exit 1; }
 
 WITH_VIEWER=1
+CHECK_SRC_ONLY=0
 for arg in "$@"; do
   case "$arg" in
+    --check-source-index) CHECK_SRC_ONLY=1 ;;
     --viewer) WITH_VIEWER=1 ;;  # the default; kept for compatibility
     --no-viewer) WITH_VIEWER=0 ;;
     -h|--help) sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
@@ -71,6 +75,41 @@ apt_update() {
     APT_UPDATED=1
   fi
 }
+
+# Makes trilinos' source package visible to apt (a deb-src entry for bookworm
+# copied from the machine's own, then apt-get update) unless it already is.
+ensure_src_index() {
+  have_src_index() { apt-cache showsrc --only-source trilinos 2>/dev/null | grep '^Package: trilinos$' >/dev/null; }
+  if ! have_src_index; then
+    if [ ! -e "$DEB_SRC_FILE" ]; then
+      # copy URIs/Signed-By of the machine's own bookworm entry (deb822 or one-line format)
+      uris="" signed=""
+      if [ -r /etc/apt/sources.list.d/debian.sources ]; then
+        stanza="$(awk 'BEGIN{RS=""} /(^|\n)Suites:[^\n]*[ \t]bookworm([ \t\n]|$)/ {print; exit}' \
+                   /etc/apt/sources.list.d/debian.sources)"
+        uris="$(printf '%s\n' "$stanza" | sed -n 's/^URIs:[[:space:]]*//p' | first_line)"
+        signed="$(printf '%s\n' "$stanza" | sed -n 's/^Signed-By:[[:space:]]*//p' | first_line)"
+      fi
+      if [ -z "$uris" ] && [ -r /etc/apt/sources.list ]; then
+        uris="$(awk '$1=="deb" && $0 ~ / bookworm / {for(i=2;i<=NF;i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}' /etc/apt/sources.list)"
+      fi
+      uris="${uris:-http://deb.debian.org/debian}"
+      signed="${signed:-/usr/share/keyrings/debian-archive-keyring.gpg}"
+      log "adding deb-src entry $DEB_SRC_FILE ($uris)"
+      printf 'Types: deb-src\nURIs: %s\nSuites: bookworm\nComponents: main\nSigned-By: %s\n' \
+        "$uris" "$signed" | as_root tee "$DEB_SRC_FILE" >/dev/null
+    fi
+    APT_UPDATED=0
+    apt_update
+    have_src_index || die "no trilinos source package visible after apt-get update"
+  fi
+}
+
+if [ "$CHECK_SRC_ONLY" -eq 1 ]; then  # the step that failed at random (scripts/check_bootstrap_repeat.sh)
+  ensure_src_index
+  log "trilinos source package visible"
+  exit 0
+fi
 
 # ---------------------------------------------------------------- Debian packages
 PACKAGES=(build-essential cmake ninja-build git pkg-config ca-certificates xz-utils dpkg-dev
@@ -196,30 +235,7 @@ mkdir -p "$SRC_CACHE"
 orig_tarball() { ls "$SRC_CACHE"/trilinos_*.orig.tar.* 2>/dev/null | first_line || true; }
 
 if [ -z "$(orig_tarball)" ]; then
-  have_src_index() { apt-cache showsrc --only-source trilinos 2>/dev/null | grep '^Package: trilinos$' >/dev/null; }
-  if ! have_src_index; then
-    if [ ! -e "$DEB_SRC_FILE" ]; then
-      # copy URIs/Signed-By of the machine's own bookworm entry (deb822 or one-line format)
-      uris="" signed=""
-      if [ -r /etc/apt/sources.list.d/debian.sources ]; then
-        stanza="$(awk 'BEGIN{RS=""} /(^|\n)Suites:[^\n]*[ \t]bookworm([ \t\n]|$)/ {print; exit}' \
-                   /etc/apt/sources.list.d/debian.sources)"
-        uris="$(printf '%s\n' "$stanza" | sed -n 's/^URIs:[[:space:]]*//p' | first_line)"
-        signed="$(printf '%s\n' "$stanza" | sed -n 's/^Signed-By:[[:space:]]*//p' | first_line)"
-      fi
-      if [ -z "$uris" ] && [ -r /etc/apt/sources.list ]; then
-        uris="$(awk '$1=="deb" && $0 ~ / bookworm / {for(i=2;i<=NF;i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}' /etc/apt/sources.list)"
-      fi
-      uris="${uris:-http://deb.debian.org/debian}"
-      signed="${signed:-/usr/share/keyrings/debian-archive-keyring.gpg}"
-      log "adding deb-src entry $DEB_SRC_FILE ($uris)"
-      printf 'Types: deb-src\nURIs: %s\nSuites: bookworm\nComponents: main\nSigned-By: %s\n' \
-        "$uris" "$signed" | as_root tee "$DEB_SRC_FILE" >/dev/null
-    fi
-    APT_UPDATED=0
-    apt_update
-    have_src_index || die "no trilinos source package visible after apt-get update"
-  fi
+  ensure_src_index
   log "downloading Debian trilinos source package into $SRC_CACHE (~166 MB)"
   sandbox=()
   [ "$(id -u)" -eq 0 ] && sandbox=(-o APT::Sandbox::User=root)

@@ -212,7 +212,6 @@ expect_error("unknown flag", render_args(scene, "--no-such-flag"), "--no-such-fl
 expect_error("option without its value", ["render", scene, "-o", out_png, "--size"], "--size")
 expect_error("non-numeric --fovy", render_args(scene, "--fovy", "abc"), "fovy")
 expect_error("unknown subcommand", ["no-such-command"], "")
-expect_error("no subcommand", [], "")
 
 # ---------------------------------------------------------------- and one good render
 if os.path.exists(out_png):

@@ -32,6 +32,7 @@ APT = ("libepoxy-dev libegl-dev libopengl-dev libgl-dev libtinygltf-dev nlohmann
        "libstb-dev libglm-dev libegl-mesa0 libgl1-mesa-dri")
 
 sys.path.insert(0, HERE)
+from skip import skip as skip_test
 from script_args import arg_parser  # noqa: E402
 
 args = arg_parser(assimp_default="/usr/share/assimp/models/glTF2").parse_args()
@@ -43,8 +44,7 @@ env.setdefault("OMP_PROC_BIND", "false")
 
 
 def skip(reason):
-    print(f"SKIPPED: {reason}")
-    sys.exit(77)
+    skip_test(args.workdir, reason)
 
 
 def have_header(name, subdirs=("",)):

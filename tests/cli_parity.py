@@ -9,6 +9,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rastimg  # noqa: E402
+from skip import skip
 from script_args import arg_parser  # noqa: E402
 
 ap = arg_parser()
@@ -39,8 +40,7 @@ exes = [("openmp", args.rast)]
 if args.rast_serial:
     exes.append(("serial", args.rast_serial))
 else:
-    print("SKIPPED: no Serial twin built (RAST_SERIAL_TWIN off or Kokkos without Serial)")
-    sys.exit(77)
+    skip(args.workdir, "no Serial twin built (RAST_SERIAL_TWIN off or Kokkos without Serial)")
 
 
 def render(exe, scene, method, tag):

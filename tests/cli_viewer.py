@@ -23,18 +23,17 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from rastimg import read_png_rgba as read_png  # noqa: E402
+from skip import skip
 from script_args import arg_parser  # noqa: E402
 
 args = arg_parser().parse_args()
 
 viewer = os.path.join(os.path.dirname(os.path.abspath(args.rast)), "rast-viewer")
 if not os.path.exists(viewer):
-    print(f"SKIPPED: {viewer} was not built (needs libglfw3-dev libimgui-dev: bash scripts/bootstrap.sh --viewer)")
-    sys.exit(77)
+    skip(args.workdir, f"{viewer} was not built (needs libglfw3-dev libimgui-dev: bash scripts/bootstrap.sh)")
 xvfb = shutil.which("xvfb-run")
 if not xvfb:
-    print("SKIPPED: xvfb-run not found (Debian package xvfb: bash scripts/bootstrap.sh --viewer)")
-    sys.exit(77)
+    skip(args.workdir, "xvfb-run not found (Debian package xvfb: bash scripts/bootstrap.sh)")
 
 os.makedirs(args.workdir, exist_ok=True)
 W, H = 320, 240
@@ -82,7 +81,8 @@ def run_viewer(tag, script, extra=(), display=True):
 
 
 def rast_render(out, flags):
-    cmd = [args.rast, "render", "--size", f"{W}x{H}", "-o", out] + flags
+    # The viewer draws without anti-aliasing; rast render's default scene image has it.
+    cmd = [args.rast, "render", "--size", f"{W}x{H}", "-o", out, "--aa", "none"] + flags
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=dict(os.environ, OMP_PROC_BIND="false"))
     if r.returncode != 0:
         raise SystemExit(f"FAILED: {' '.join(cmd)}: {r.stderr.strip()}")
@@ -167,7 +167,7 @@ screenshot resized.png
 """)
 check(r.returncode == 0, f"orbit script ran (rc {r.returncode}) {r.stderr.strip()[-300:]}")
 cams = [camera_of(l[len("camera: "):]) for l in r.stdout.splitlines() if l.startswith("camera: ")]
-auto = re.search(r"camera \(auto\) (.*)", r.stdout)
+auto = re.search(r"camera \((?:auto|scene)\) (.*)", r.stdout)
 check(len(cams) == 2 and auto is not None, "print-camera printed two cameras, the auto camera was announced")
 if len(cams) == 2 and auto:
     auto_cam = camera_of(auto.group(1))

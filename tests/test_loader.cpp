@@ -257,7 +257,7 @@ Doc texturedTriangle(const std::string& imageUri) {
 TEST_CASE("every glTF2 file of assimp-testmodels loads or fails as expected", "[loader]") {
   const std::string dir = test::assimpDir();
   if (dir.empty()) {
-    WARN("SKIPPED: assimp-testmodels (/usr/share/assimp/models/glTF2) is not installed");
+    test::skipTest("assimp-testmodels (/usr/share/assimp/models/glTF2) is not installed");
     return;
   }
   const auto& table = assimpTable();
@@ -324,7 +324,7 @@ TEST_CASE("loader: missing, empty, garbage and non-glTF files", "[loader]") {
 TEST_CASE("loader: truncated and damaged GLB files fail cleanly", "[loader]") {
   const std::string dir = test::assimpDir();
   if (dir.empty()) {
-    WARN("SKIPPED: assimp-testmodels is not installed");
+    test::skipTest("assimp-testmodels is not installed");
     return;
   }
   std::ifstream f(dir + "/BoxTextured-glTF-Binary/BoxTextured.glb", std::ios::binary);

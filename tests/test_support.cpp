@@ -1,6 +1,10 @@
 #include "test_support.h"
 
+#include <catch2/catch.hpp>
+
+#include <cctype>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sys/stat.h>
 
@@ -61,6 +65,17 @@ std::string sharedDir() {
 std::string assimpDir() {
   const std::string d = dirSetting("RAST_ASSIMP_GLTF_DIR", RAST_ASSIMP_GLTF_DIR);
   return fileExists(d) ? d : std::string();
+}
+
+void skipTest(const std::string& reason) {
+  WARN("SKIPPED: " << reason);
+  std::string name = Catch::getResultCapture().getCurrentTestName();
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  const std::string dir = std::string(RAST_BINARY_DIR) + "/tests/skipped";
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  std::ofstream(dir + "/" + name + ".txt") << reason << "\n";
 }
 
 }  // namespace rast::test

@@ -35,4 +35,9 @@ std::string sharedDir();                       // "" when ../shared is absent
 std::string assimpDir();                       // "" when assimp-testmodels is absent
 bool fileExists(const std::string& p);
 
+// Marks the running test case skipped (ctest's SKIP_REGULAR_EXPRESSION matches
+// "SKIPPED:") and records why for the report after ctest's summary
+// (tests/skip_report.cmake). The caller returns afterwards.
+void skipTest(const std::string& reason);
+
 }  // namespace rast::test

@@ -683,7 +683,8 @@ int Viewer::run() {
 }
 
 int run(int argc, char** argv) {
-  CLI::App app{"rast-viewer: shows a glTF scene (or a built-in one) rendered by the Kokkos pipeline in a window"};
+  CLI::App app{"rast-viewer: shows a glTF scene (or a built-in one) rendered by the Kokkos pipeline in a window",
+               "rast-viewer"};
   ViewerOptions o;
   o.scene.size = "1280x720";
   o.scene.addTo(app);
@@ -697,12 +698,13 @@ int run(int argc, char** argv) {
   if (o.frames < 0) throw Error("--frames must be >= 0");
 
   // Everything that can fail on bad input happens before the window opens.
-  const RenderSettings rs = o.scene.settings();
+  RenderSettings rs = o.scene.settings();
   const Scene scene = loadSceneArg(o.scene.scene, o.scene.loadOptions());
   const Camera cam = o.scene.camera(scene);
+  o.scene.applySceneLook(scene, rs, /*still=*/false);
   std::vector<ScriptEvent> script;
   if (!o.script.empty()) script = loadScript(o.script);
-  if (!o.scene.cameraGiven()) std::printf("rast-viewer: camera (auto) %s\n", cam.flags().c_str());
+  if (!o.scene.cameraGiven()) std::printf("rast-viewer: camera (%s) %s\n", cameraOrigin(scene), cam.flags().c_str());
 
   Viewer v(o, scene, cam, rs, std::move(script));
   v.openWindow();
