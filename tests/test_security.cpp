@@ -6,9 +6,11 @@
 #include <catch2/catch.hpp>
 
 #include "core/memory_budget.h"
+#include "core/raster_common.h"
 #include "models/procedural.h"
 #include "test_support.h"
 
+#include <cmath>
 #include <functional>
 
 using namespace rast;
@@ -146,4 +148,19 @@ TEST_CASE("auto-framing refuses scenes beyond float precision", "[security]") {
   size_t covered = 0;
   for (uint32_t id : f.ids) covered += id != 0;
   CHECK(covered > 0);  // framed and visible
+}
+
+TEST_CASE("setup drops a clipped vertex whose window position would overflow fixed point", "[security]") {
+  // Found by scripts/fuzz_cli.sh (UBSan: signed overflow in finishTriangle): a
+  // projective node matrix left a clipped vertex with w near 0, whose snapped
+  // x converted to int32 out of range. Such a piece is dropped now.
+  const Viewport vp{160, 120, SamplePattern{}};
+  RasterTri t;
+  const ClipVert far{float4{1.0f, 0.0f, 0.0f, 1e-30f}, 0.0f, 0.0f};
+  const ClipVert b{float4{-0.5f, -0.5f, 0.0f, 1.0f}, 1.0f, 0.0f}, c{float4{0.5f, 0.5f, 0.0f, 1.0f}, 0.0f, 1.0f};
+  CHECK_FALSE(setupTriangle(far, b, c, vp, false, true, 1, t));
+  const ClipVert a{float4{-0.5f, 0.5f, 0.0f, 1.0f}, 0.0f, 0.0f};
+  CHECK(setupTriangle(a, b, c, vp, false, true, 1, t));  // an ordinary triangle still sets up
+  CHECK(snappable(float4{0.99f, -0.99f, 0.0f, 1.0f}, vp));
+  CHECK_FALSE(snappable(float4{NAN, 0.0f, 0.0f, 1.0f}, vp));
 }
