@@ -25,6 +25,9 @@ struct SceneOptions {
   std::string aa, interp = "perspective";  // aa empty: the scene's look for stills, else none
   bool reference = false;
   int referenceGrid = 16;
+  std::string polygon = "fill";  // points and lines (docs/points-lines.md)
+  bool wireframe = false, hiddenLine = false;
+  double lineWidth = 1.0, pointSize = 1.0;
   // Security and resource limits (docs/security.md).
   bool allowExternalFiles = false;
   std::string maxMemory;  // empty: defaultMemoryBudget()
