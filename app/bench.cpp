@@ -108,13 +108,13 @@ void BenchOptions::addTo(CLI::App& app) {
 
 int runBench(const SceneOptions& so, const BenchOptions& bo) {
   RenderSettings rs = so.settings();
-  const Scene scene = loadSceneArg(so.scene);
+  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
   const Camera cam = so.camera(scene);
   so.applySceneLook(scene, rs, /*still=*/false);
   const std::string sceneName = so.scene.empty() ? "builtin:default" : so.scene;
   std::printf("rast: bench %s at %dx%d on %s, camera %s\n", sceneName.c_str(), rs.width, rs.height, Exec::name(),
               cam.flags().c_str());
-  Renderer r(scene);
+  Renderer r(scene, so.memoryBudget());
   std::vector<RasterMethod> methods = bo.allMethods ? allRasterMethods() : std::vector<RasterMethod>{rs.raster};
   if (bo.allMethods) methods.push_back(RasterMethod::Auto);
   if (!bo.methods.empty()) {

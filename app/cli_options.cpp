@@ -1,5 +1,7 @@
 #include "cli_options.h"
 
+#include "../core/memory_budget.h"
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -63,6 +65,22 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_flag("--hidden-line", hiddenLine, "wireframe whose edges are depth-tested against the fill (implies --wireframe)");
   app.add_option("--line-width", lineWidth, "line width in pixels, 1..64")->capture_default_str();
   app.add_option("--point-size", pointSize, "point size in pixels, 1..64")->capture_default_str();
+  app.add_flag("--allow-external-files", allowExternalFiles,
+               "let a glTF file read buffers and images outside its own folder (absolute paths, ..)");
+  app.add_option("--max-memory", maxMemory,
+                 "memory that loading and rendering may use, e.g. 512M or 4G (default: half of physical memory, " +
+                     formatBytes(defaultMemoryBudget()) + " here)");
+}
+
+uint64_t SceneOptions::memoryBudget() const {
+  return maxMemory.empty() ? defaultMemoryBudget() : parseMemorySize(maxMemory);
+}
+
+LoadOptions SceneOptions::loadOptions() const {
+  LoadOptions o;
+  o.allowExternalFiles = allowExternalFiles;
+  o.maxMemory = memoryBudget();
+  return o;
 }
 
 RenderSettings SceneOptions::settings() const {
@@ -123,7 +141,16 @@ void SceneOptions::applySceneLook(const Scene& scene, RenderSettings& rs, bool s
 
 Camera SceneOptions::camera(const Scene& s) const {
   // A builtin scene's own camera keeps its field of view unless --fovy is given.
-  Camera c = defaultCamera(s, fovy.value_or(45.0));
+  if (fovy && !(*fovy > 0.0 && *fovy < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
+  Camera c;
+  try {
+    const Camera framed = defaultCamera(s, fovy.value_or(45.0));
+    c = framed;
+  } catch (const Error&) {
+    // A scene auto-framing cannot place may still be viewed from a camera the
+    // user gives in full.
+    if (eye.empty() || target.empty() || !znear || !zfar) throw;
+  }
   if (fovy) c.fovyDeg = *fovy;
   if (!eye.empty()) c.eye = parseVec3(eye, "eye");
   if (!target.empty()) c.target = parseVec3(target, "target");

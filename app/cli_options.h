@@ -3,6 +3,7 @@
 #pragma once
 
 #include "../core/camera.h"
+#include "../core/gltf_loader.h"
 #include "../core/render_settings.h"
 
 #include <CLI/CLI.hpp>
@@ -33,8 +34,14 @@ struct SceneOptions {
   std::string polygon = "fill";  // points and lines (docs/points-lines.md)
   bool wireframe = false, hiddenLine = false;
   double lineWidth = 1.0, pointSize = 1.0;
+  // Security and resource limits (docs/security.md).
+  bool allowExternalFiles = false;
+  std::string maxMemory;  // empty: defaultMemoryBudget()
 
   void addTo(CLI::App& app);
+  // How the scene file may be read, and the bytes loading and rendering may use.
+  LoadOptions loadOptions() const;
+  uint64_t memoryBudget() const;
   // Builds settings and camera; throws Error for malformed values.
   RenderSettings settings() const;
   Camera camera(const Scene& scene) const;

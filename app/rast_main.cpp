@@ -70,11 +70,11 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   checkOutputPath(out, "-o");
   for (const std::string* a : {&aov.depth, &aov.primid, &aov.normals, &aov.ao})
     if (!a->empty()) checkOutputPath(*a, "--aov");
-  const Scene scene = loadSceneArg(so.scene);
+  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
   const Camera cam = so.camera(scene);
   so.applySceneLook(scene, rs, /*still=*/true);
   if (!so.cameraGiven()) std::printf("rast: camera (%s) %s\n", cameraOrigin(scene), cam.flags().c_str());
-  Renderer r(scene);
+  Renderer r(scene, so.memoryBudget());
   Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
   if (progress.active()) r.onPass = [&progress](int done, int total) { progress.update(done, total); };
   const FrameStats st = r.render(cam, rs);

@@ -2,8 +2,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <cstdlib>
 
 namespace rast {
@@ -58,15 +60,36 @@ Camera defaultCamera(const Scene& scene, double fovyDeg) {
   return c;
 }
 
+// The pipeline runs in float: world positions, the camera's far plane and the
+// clip coordinates (about |position| + distance, times the projection) must
+// stay well inside float's range, or every vertex overflows and the image
+// comes out blank. A margin of 2^10 below FLT_MAX covers the matrix products.
+static void checkFramable(const glm::dvec3& lo, const glm::dvec3& hi, double d, double zfar) {
+  constexpr double kLimit = double(std::numeric_limits<float>::max()) / 1024.0;
+  double reach = 0.0;
+  for (int k = 0; k < 3; ++k) reach = std::max({reach, std::fabs(lo[k]), std::fabs(hi[k])});
+  char b[256];
+  if (!std::isfinite(reach) || !std::isfinite(d) || !std::isfinite(zfar) || reach > kLimit || zfar + reach > kLimit) {
+    std::snprintf(b, sizeof b,
+                  "cannot frame the scene within float precision: its bounds reach %.3g and the camera would need a far "
+                  "plane at %.3g (the limit is %.3g); scale the scene down or pass --eye/--target/--near/--far",
+                  reach, zfar, kLimit);
+    throw Error(b);
+  }
+}
+
 Camera autoFrame(const Scene& scene, double fovyDeg) {
   glm::dvec3 lo, hi;
   scene.worldBounds(lo, hi);
   Camera c;
   c.fovyDeg = fovyDeg;
   c.target = (lo + hi) * 0.5;
+  const bool empty = !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z);  // no vertex drawn
+  if (empty) lo = hi = c.target = glm::dvec3(0.0);
   double r = glm::length(hi - lo) * 0.5;
-  if (!(r > 0.0) || !std::isfinite(r)) r = 1.0;  // a single point or an empty box
+  if (r == 0.0) r = 1.0;  // a single point or an empty box
   const double d = r / std::sin(glm::radians(fovyDeg) * 0.5);
+  checkFramable(lo, hi, d, d * 100.0);
   c.eye = c.target + glm::normalize(glm::dvec3(0.0, 0.25, 1.0)) * d;
   c.up = glm::dvec3(0.0, 1.0, 0.0);
   c.znear = d / 100.0;

@@ -17,6 +17,9 @@
 // index, count and byte range checked again.
 #include "gltf_loader.h"
 
+#include "memory_budget.h"
+#include "uri_resolver.h"
+
 #include <tiny_gltf.h>
 
 #include <nlohmann/json.hpp>
@@ -46,6 +49,23 @@ constexpr size_t kMaxJsonDepth = 128;                // tinygltf recurses on nes
 constexpr int kMaxTextureSide = 16384;               // same limit as the image size
 constexpr size_t kMaxAccessorCount = 0xffffffffull;  // vertex indices are 32-bit
 constexpr size_t kMaxZeroAccessorCount = size_t(1) << 24;  // accessors without a bufferView (zeros + sparse)
+// Elements that accessors without a bufferView may add up to, relative to the
+// file: such data is not in the file (zeros plus sparse entries), so a few
+// hundred bytes could otherwise claim gigabytes.
+constexpr uint64_t kMinZeroElements = uint64_t(1) << 20;
+constexpr uint64_t kZeroElementsPerFileByte = 16;
+
+// What one load shares between tinygltf's callbacks and the model walk.
+struct LoadContext {
+  LoadContext(const std::string& path, const LoadOptions& o)
+      : resolver(path, o.allowExternalFiles), ledger(o.maxMemory ? o.maxMemory : defaultMemoryBudget()) {}
+  UriResolver resolver;
+  MemoryLedger ledger;
+  uint64_t zeroElementsLeft = kMinZeroElements;
+  // The first refusal (outside the folder, over the budget) met inside a
+  // tinygltf callback: tinygltf only warns when an image cannot be read.
+  std::string fatal;
+};
 
 // Makes a message printable on one line: control characters become spaces.
 std::string oneLine(std::string s) {
@@ -72,16 +92,27 @@ std::vector<unsigned char> readWholeFile(const std::string& path) {
   return bytes;
 }
 
-// tinygltf's file reader for external buffers and images, with the checks of
-// readWholeFile: tinygltf's own sizes a directory as a huge file (bad_alloc).
-bool readFileForTinygltf(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+// tinygltf's file callbacks for external buffers and images: every path goes
+// through the scene's UriResolver (tinygltf hands back base + "/" + decoded URI).
+// "Exists" is always true so that tinygltf never falls back to looking in the
+// current directory; the read says why a file cannot be had.
+bool fileExistsForTinygltf(const std::string&, void*) { return true; }
+std::string expandPathForTinygltf(const std::string& path, void*) { return path; }
+bool readFileForTinygltf(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  LoadContext& ctx = *static_cast<LoadContext*>(user);
   try {
-    *out = readWholeFile(path);
+    *out = UriResolver::read(ctx.resolver.resolveJoined(path), &ctx.ledger);
     return true;
   } catch (const Error& e) {
+    if (ctx.fatal.empty() && (dynamic_cast<const ExternalFileRefused*>(&e) || dynamic_cast<const BudgetExceeded*>(&e)))
+      ctx.fatal = e.what();
     if (err) *err += std::string(e.what()) + "\n";
     return false;
   }
+}
+bool writeFileForTinygltf(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "rast does not write files while loading\n";
+  return false;
 }
 
 uint32_t u32le(const unsigned char* p) {
@@ -375,21 +406,8 @@ class SchemaChecker {
 // AccessorReader reads anyway.
 bool extensionSupported(const std::string& name) { return name == "KHR_mesh_quantization"; }
 
-std::string urlDecode(const std::string& s) {
-  std::string out;
-  for (size_t i = 0; i < s.size(); ++i) {
-    if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) && std::isxdigit((unsigned char)s[i + 2])) {
-      out += char(std::stoi(s.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      out += s[i];
-    }
-  }
-  return out;
-}
-
 // What tinygltf leaves unchecked or reports unclearly, checked on the JSON.
-void checkDocument(const Json& j, const std::string& baseDir) {
+void checkDocument(const Json& j, LoadContext& ctx) {
   SchemaChecker().object(j, gltfSchema(), "");
 
   if (const auto it = j.find("extensionsRequired"); it != j.end()) {
@@ -420,32 +438,69 @@ void checkDocument(const Json& j, const std::string& baseDir) {
       throw Error(at + ": bufferView " + std::to_string(vi) + " reaches past the end of buffer " + std::to_string(b) +
                   " (" + std::to_string(off) + " + " + std::to_string(len) + " > " + std::to_string(bufLen) + " bytes)");
   }
+  // Buffers: where external ones resolve (the same resolver tinygltf's reads
+  // use), and the bytes every buffer will hold, before any is read or decoded.
   for (size_t i = 0; i < buffers.size(); ++i) {
+    const std::string at = "buffers[" + std::to_string(i) + "]";
+    ctx.ledger.charge(at + " (byteLength " + std::to_string(buffers[i]["byteLength"].get<uint64_t>()) + ")",
+                      buffers[i]["byteLength"].get<uint64_t>());
     const auto u = buffers[i].find("uri");
     if (u == buffers[i].end()) continue;
     const std::string uri = u->get<std::string>();
     if (uri.rfind("data:", 0) == 0) continue;
-    const std::string decoded = urlDecode(uri);
-    const std::string file = (decoded.empty() || decoded[0] == '/' || baseDir.empty()) ? decoded : baseDir + "/" + decoded;
-    struct stat st;
-    if (::stat(file.c_str(), &st) != 0)
-      throw Error("buffers[" + std::to_string(i) + "]: file '" + uri + "' is missing (" + std::strerror(errno) + ")");
-    if (!S_ISREG(st.st_mode)) throw Error("buffers[" + std::to_string(i) + "]: '" + uri + "' is not a regular file");
+    try {
+      ctx.resolver.resolveUri(uri);
+    } catch (const Error& e) {
+      throw Error(at + ": " + e.what());
+    }
+  }
+  // data: images are decoded from base64 in memory (3 bytes per 4 characters).
+  for (size_t i = 0; i < images.size(); ++i) {
+    const auto u = images[i].find("uri");
+    if (u == images[i].end()) continue;
+    const std::string uri = u->get<std::string>();
+    if (uri.rfind("data:", 0) == 0)
+      ctx.ledger.charge("images[" + std::to_string(i) + "] data: URI", uri.size() / 4 * 3);
   }
 }
 
 // tinygltf's image decoder (stb_image), after a look at the header so that an
-// absurd image size is refused before anything is allocated for it.
+// absurd image size is refused before anything is allocated for it: per side,
+// and in total against the memory budget (the decoded pixels, tinygltf's copy
+// of them, and the texture built from them).
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int reqWidth,
                       int reqHeight, const unsigned char* bytes, int size, void* user) {
+  LoadContext& ctx = *static_cast<LoadContext*>(user);
+  const std::string at = "image " + std::to_string(index);
   int w = 0, h = 0, comp = 0;
-  if (size > 0 && stbi_info_from_memory(bytes, size, &w, &h, &comp) && (w > kMaxTextureSide || h > kMaxTextureSide)) {
+  // When stb cannot read the header, its decoder fails at the header too (and
+  // says why more precisely than the header probe, which tries every format).
+  const bool known = size > 0 && stbi_info_from_memory(bytes, size, &w, &h, &comp);
+  if (known && (w > kMaxTextureSide || h > kMaxTextureSide)) {
     if (err)
-      *err += "image " + std::to_string(index) + " is " + std::to_string(w) + "x" + std::to_string(h) +
-              " texels, more than " + std::to_string(kMaxTextureSide) + " per side";
+      *err += at + " is " + std::to_string(w) + "x" + std::to_string(h) + " texels, more than " +
+              std::to_string(kMaxTextureSide) + " per side";
     return false;
   }
-  return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size, user);
+  // tinygltf decodes to RGBA (8 or 16 bits per channel) and copies the result.
+  if (known) {
+    const uint64_t decoded = mulSat(mulSat(uint64_t(w), uint64_t(h)), stbi_is_16_bit_from_memory(bytes, size) ? 8 : 4);
+    const std::string what = at + " (" + std::to_string(w) + "x" + std::to_string(h) + " texels, decoded)";
+    try {
+      ctx.ledger.check(what, 2 * decoded);
+      ctx.ledger.charge(what, decoded);
+    } catch (const Error& e) {
+      if (ctx.fatal.empty()) ctx.fatal = e.what();
+      if (err) *err += e.what();
+      return false;
+    }
+  }
+  std::string decodeErr;
+  if (tinygltf::LoadImageData(image, index, &decodeErr, warn, reqWidth, reqHeight, bytes, size, nullptr)) return true;
+  // tinygltf says "Unknown image format" whatever went wrong; stb knows why.
+  const char* why = stbi_failure_reason();
+  if (err) *err += at + ": cannot decode (stb_image: " + std::string(why ? why : "unknown reason") + ")";
+  return false;
 }
 
 // ---------------------------------------------------------------- model walk
@@ -455,7 +510,7 @@ bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err,
 // substitution. Every byte range is checked before anything is allocated or read.
 class AccessorReader {
  public:
-  explicit AccessorReader(const tinygltf::Model& m) : m_(m) {}
+  AccessorReader(const tinygltf::Model& m, LoadContext& ctx) : m_(m), ctx_(ctx) {}
 
   std::vector<float> floats(int index, int comps, const char* what) const {
     const tinygltf::Accessor& a = accessor(index, what);
@@ -463,6 +518,8 @@ class AccessorReader {
       throw Error(std::string(what) + ": accessor " + std::to_string(index) + " has the wrong type");
     checkCount(a, index, what);
     const Span sp = a.bufferView >= 0 ? span(a, comps, what) : Span{nullptr, 0, 0};
+    ctx_.ledger.check(std::string(what) + " accessor " + std::to_string(index) + " (" + std::to_string(a.count) + " elements)",
+                      mulSat(a.count, uint64_t(comps) * 4));
     std::vector<float> out(a.count * comps, 0.0f);
     if (sp.data) {
       for (size_t i = 0; i < a.count; ++i)
@@ -486,6 +543,8 @@ class AccessorReader {
       throw Error("indices accessor has a component type other than u8/u16/u32");
     checkCount(a, index, what);
     const Span sp = a.bufferView >= 0 ? span(a, 1, what) : Span{nullptr, 0, 0};
+    ctx_.ledger.check("indices accessor " + std::to_string(index) + " (" + std::to_string(a.count) + " elements)",
+                      mulSat(a.count, 4));
     std::vector<uint32_t> out(a.count, 0);
     if (sp.data)
       for (size_t i = 0; i < a.count; ++i) out[i] = uintAt(sp.data + i * sp.stride, a.componentType);
@@ -510,11 +569,18 @@ class AccessorReader {
     return m_.accessors[index];
   }
 
-  static void checkCount(const tinygltf::Accessor& a, int index, const char* what) {
+  void checkCount(const tinygltf::Accessor& a, int index, const char* what) const {
     const size_t limit = a.bufferView >= 0 ? kMaxAccessorCount : kMaxZeroAccessorCount;
     if (a.count > limit)
       throw Error(std::string(what) + ": accessor " + std::to_string(index) + " count " + std::to_string(a.count) +
                   " is too large");
+    if (a.bufferView < 0) {
+      if (a.count > ctx_.zeroElementsLeft)
+        throw Error(std::string(what) + ": accessor " + std::to_string(index) + " has no bufferView and a count of " +
+                    std::to_string(a.count) + ", out of proportion to the file (" +
+                    std::to_string(ctx_.zeroElementsLeft) + " such elements left for its size)");
+      ctx_.zeroElementsLeft -= a.count;
+    }
   }
 
   static size_t compSizeOf(int componentType, const char* what) {
@@ -595,6 +661,7 @@ class AccessorReader {
   }
 
   const tinygltf::Model& m_;
+  LoadContext& ctx_;
 };
 
 bool allFinite(const std::vector<float>& v) {
@@ -613,7 +680,7 @@ glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
   return t * r * s;
 }
 
-Texture decodeTexture(const tinygltf::Model& m, int texIndex) {
+Texture decodeTexture(const tinygltf::Model& m, int texIndex, MemoryLedger& ledger) {
   if (texIndex < 0 || size_t(texIndex) >= m.textures.size()) throw Error("texture index out of range");
   const tinygltf::Texture& t = m.textures[texIndex];
   if (t.source < 0 || size_t(t.source) >= m.images.size()) throw Error("texture has no valid image source");
@@ -627,6 +694,9 @@ Texture decodeTexture(const tinygltf::Model& m, int texIndex) {
   if (comps < 1 || comps > 4 || (bytes != 1 && bytes != 2) ||
       im.image.size() < size_t(im.width) * im.height * comps * bytes)
     throw Error("texture image " + std::to_string(t.source) + " has an unsupported layout");
+  ledger.charge("texture image " + std::to_string(t.source) + " (" + std::to_string(im.width) + "x" +
+                     std::to_string(im.height) + " texels)",
+                 mulSat(mulSat(uint64_t(im.width), uint64_t(im.height)), 4));
   Texture out;
   out.width = im.width;
   out.height = im.height;
@@ -655,7 +725,7 @@ Texture decodeTexture(const tinygltf::Model& m, int texIndex) {
 
 class Loader {
  public:
-  Loader(const tinygltf::Model& m, Scene& s) : m_(m), s_(s), acc_(m) {}
+  Loader(const tinygltf::Model& m, Scene& s, LoadContext& ctx) : m_(m), s_(s), ctx_(ctx), acc_(m, ctx) {}
 
   void run() {
     std::vector<int> roots;
@@ -745,6 +815,7 @@ class Loader {
     const int posA = attr("POSITION");
     if (posA < 0) throw Error("mesh primitive has no POSITION attribute");
     const std::vector<float> pf = acc_.floats(posA, 3, "POSITION");
+    chargePrim(p, mode, posA, attr("NORMAL") >= 0, attr("COLOR_0") >= 0);
     const size_t nv = pf.size() / 3;
     std::vector<float3> pos(nv);
     for (size_t i = 0; i < nv; ++i) {
@@ -856,6 +927,25 @@ class Loader {
                    matIndex);
   }
 
+  // What the primitive will hold in the scene (positions, normals, texture
+  // coordinates, colours, 3 indices per triangle) is charged once its
+  // positions are read and checked, before the indices and the triangles
+  // (strips, flat normals multiply them); converting needs as much again.
+  void chargePrim(const tinygltf::Primitive& p, int mode, int posA, bool hasNormal, bool hasColor) {
+    if (size_t(posA) >= m_.accessors.size()) return;  // reported by the reader
+    const uint64_t nv = m_.accessors[posA].count;
+    uint64_t n = nv;
+    if (p.indices >= 0 && size_t(p.indices) < m_.accessors.size()) n = m_.accessors[p.indices].count;
+    const uint64_t tris = mode == TINYGLTF_MODE_TRIANGLES ? n / 3 : n > 2 ? n - 2 : 0;
+    // Without normals, flat shading gives every triangle its own 3 vertices.
+    const uint64_t stored = hasNormal ? nv : addSat(nv, mulSat(tris, 3));
+    const uint64_t perVertex = 12 + 12 + 8 + (hasColor ? 16 : 0);
+    const uint64_t bytes = addSat(mulSat(stored, perVertex), mulSat(tris, 12));
+    const std::string what = "mesh primitive (" + std::to_string(nv) + " vertices, " + std::to_string(tris) + " triangles)";
+    ctx_.ledger.check(what, mulSat(bytes, 2));
+    ctx_.ledger.charge(what, bytes);
+  }
+
   int32_t material(int mi, int* texCoordSet) {
     auto it = matCache_.find(mi);
     if (it == matCache_.end()) {
@@ -881,12 +971,13 @@ class Loader {
   int32_t texture(int ti) {
     auto it = texCache_.find(ti);
     if (it != texCache_.end()) return it->second;
-    s_.textures.push_back(decodeTexture(m_, ti));
+    s_.textures.push_back(decodeTexture(m_, ti, ctx_.ledger));
     return texCache_[ti] = int32_t(s_.textures.size() - 1);
   }
 
   const tinygltf::Model& m_;
   Scene& s_;
+  LoadContext& ctx_;
   AccessorReader acc_;
   std::vector<char> state_;  // per node: 0 not seen, 1 on the current path, 2 done
   std::map<int, std::vector<uint32_t>> meshCache_;
@@ -894,10 +985,11 @@ class Loader {
   std::map<int, int32_t> texCache_;
 };
 
-Scene loadChecked(const std::string& path) {
+Scene loadChecked(const std::string& path, const LoadOptions& options) {
   const std::vector<unsigned char> bytes = readWholeFile(path);
-  const auto slash = path.find_last_of('/');
-  const std::string baseDir = slash == std::string::npos ? std::string() : path.substr(0, slash);
+  LoadContext ctx(path, options);
+  ctx.ledger.charge("the file", bytes.size());
+  ctx.zeroElementsLeft = std::max(kMinZeroElements, mulSat(bytes.size(), kZeroElementsPerFileByte));
 
   // Sniff the GLB magic instead of trusting the extension.
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
@@ -905,15 +997,15 @@ Scene loadChecked(const std::string& path) {
   if (binary) glb = checkGlb(bytes);
   const char* json = reinterpret_cast<const char*>(bytes.data()) + (binary ? glb.jsonOffset : 0);
   const size_t jsonLength = binary ? glb.jsonLength : bytes.size();
-  checkDocument(parseJson(json, jsonLength), baseDir);
+  checkDocument(parseJson(json, jsonLength), ctx);
 
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(loadImageChecked, nullptr);
-  loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readFileForTinygltf,
-                         &tinygltf::WriteWholeFile, nullptr});
+  loader.SetImageLoader(loadImageChecked, &ctx);
+  loader.SetFsCallbacks({&fileExistsForTinygltf, &expandPathForTinygltf, &readFileForTinygltf, &writeFileForTinygltf, &ctx});
   tinygltf::Model model;
   std::string err, warn;
   bool ok = false;
+  const std::string& baseDir = ctx.resolver.baseDir();
   try {
     ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(glb.length), baseDir)
                 : loader.LoadASCIIFromString(&model, &err, &warn, json, unsigned(jsonLength), baseDir);
@@ -921,6 +1013,8 @@ Scene loadChecked(const std::string& path) {
     // nlohmann::json throws on some type mismatches inside tinygltf.
     throw Error("malformed glTF: " + oneLine(e.what()));
   }
+  // A refused or over-budget external file or image, even where tinygltf only warns.
+  if (!ctx.fatal.empty()) throw Error(ctx.fatal);
   if (!ok || !err.empty()) {
     std::string why = oneLine(err.empty() ? warn : err);
     throw Error(why.empty() ? std::string("not a valid glTF file") : why);
@@ -929,16 +1023,16 @@ Scene loadChecked(const std::string& path) {
     throw Error("glTF version '" + model.asset.version + "' is not 2.x");
   Scene s;
   s.name = path;
-  Loader(model, s).run();
+  Loader(model, s, ctx).run();
   s.validate();
   return s;
 }
 
 }  // namespace
 
-Scene loadGltf(const std::string& path) {
+Scene loadGltf(const std::string& path, const LoadOptions& options) {
   try {
-    return loadChecked(path);
+    return loadChecked(path, options);
   } catch (const Error& e) {
     const std::string what = oneLine(e.what());
     // Messages about the file as a whole already name it.

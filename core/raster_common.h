@@ -104,6 +104,17 @@ KOKKOS_INLINE_FUNCTION void putCorner(RasterTri& t, int i, const SnapVert& s, fl
   t.bary[i][0] = b1; t.bary[i][1] = b2;
 }
 
+// Whether a vertex's window position lies within +-kMaxWindowCoord pixels, so
+// that snapping it to fixed point cannot overflow int32 (undefined behaviour;
+// found by scripts/fuzz_cli.sh). Clipped vertices land inside the guard band
+// up to rounding; a projective model matrix can leave w so small that one
+// does not, and the piece is then dropped. False for NaN too.
+KOKKOS_INLINE_FUNCTION bool snappable(const float4 p, const Viewport& vp) {
+  const float hw = 0.5f * float(vp.width), hh = 0.5f * float(vp.height);
+  const float wx = (p.x / p.w) * hw + hw, wy = (p.y / p.w) * hh + hh, lim = float(kMaxWindowCoord);
+  return wx > -lim && wx < lim && wy > -lim && wy < lim;
+}
+
 // Snaps a clip-space triangle to a RasterTri (see finishTriangle). Corner
 // depths are those of the corners themselves; the setup replaces them by the
 // drawn triangle's plane (depth_plane.h).
@@ -111,7 +122,7 @@ KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, 
                                           bool cullBack, bool frontCCW, uint32_t prim, RasterTri& t) {
   const ClipVert* v[3] = {&a, &b, &c};
   for (int i = 0; i < 3; ++i) {
-    if (!(v[i]->p.w > 0.0f)) return false;
+    if (!(v[i]->p.w > 0.0f) || !snappable(v[i]->p, vp)) return false;
     putCorner(t, i, snapVertex(v[i]->p, vp), v[i]->b1, v[i]->b2);
   }
   return finishTriangle(vp, cullBack, frontCCW, prim, t);

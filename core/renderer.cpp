@@ -4,6 +4,7 @@
 #include "color.h"
 #include "post/chain.h"
 #include "post/ssao.h"
+#include "memory_budget.h"
 #include "raster_common.h"
 #include "texture_sampling.h"
 
@@ -56,7 +57,44 @@ SamplePattern samplePattern(int count) {
   return sp;
 }
 
-Renderer::Renderer(const Scene& scene) : scene_(DeviceScene::upload(scene)), hostTextures_(scene.textures) {
+namespace {
+
+uint64_t drawnVertices(const Scene& s) {
+  uint64_t n = 0;
+  for (const Draw& d : s.draws) n = addSat(n, d.prim < s.prims.size() ? s.prims[d.prim].vertexCount : 0);
+  return n;
+}
+
+// What the device scene, the raster triangles of a first frame and the
+// vertex-stage buffers will take, checked before any of it is allocated: a
+// small file can draw one large mesh from many nodes.
+const Scene& admitScene(const Scene& s, uint64_t budget) {
+  uint64_t texels = 0;
+  for (const Texture& t : s.textures) texels = addSat(texels, mulSat(uint64_t(t.width), uint64_t(t.height)));
+  uint64_t sceneBytes = mulSat(s.positions.size(), 2 * sizeof(float3));
+  sceneBytes = addSat(sceneBytes, mulSat(s.uvs.size(), sizeof(float2)));
+  sceneBytes = addSat(sceneBytes, mulSat(s.colors.size(), sizeof(float4)));
+  sceneBytes = addSat(sceneBytes, mulSat(s.indices.size(), sizeof(uint32_t)));
+  sceneBytes = addSat(sceneBytes, mulSat(s.draws.size(), sizeof(DrawGPU) + 2 * sizeof(uint32_t)));
+  sceneBytes = addSat(sceneBytes, mulSat(texels, 2 * 4 * 4 / 3));  // device texels with mipmaps, host copy
+  MemoryLedger ledger(budget);
+  ledger.charge("the scene on the device (" + std::to_string(s.positions.size()) + " vertices, " +
+                    std::to_string(s.indices.size() / 3) + " triangles, " + std::to_string(texels) + " texels)",
+                sceneBytes);
+  ledger.charge("the raster triangle buffer (" + std::to_string(s.triangleCount()) + " drawn triangles)",
+                mulSat(uint64_t(s.triangleCount()) + 1024, sizeof(RasterTri) + 2 * sizeof(uint32_t)));
+  ledger.charge("the vertex stage buffers (" + std::to_string(drawnVertices(s)) + " drawn vertices)",
+                mulSat(drawnVertices(s), sizeof(float4) + sizeof(SnapVert) + 2 * sizeof(float3)));
+  return s;
+}
+
+}  // namespace
+
+Renderer::Renderer(const Scene& scene, uint64_t memoryBudget)
+    : budget_(memoryBudget ? memoryBudget : defaultMemoryBudget()),
+      perVertexBytes_(sizeof(float4) + sizeof(SnapVert) + 2 * sizeof(float3)),
+      scene_(DeviceScene::upload(admitScene(scene, budget_))),
+      hostTextures_(scene.textures) {
   frame_.counters = DView<uint32_t>("frame.counters", kNumCounters);
   // Most triangles yield at most one raster triangle; clipping can yield more,
   // and then the buffer grows after the first frame that needs it.
@@ -85,11 +123,34 @@ RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const {
   return kGpu ? RasterMethod::VisBuffer : RasterMethod::Binned;
 }
 
+void Renderer::checkFrameBudget(const RenderSettings& rs) const {
+  const uint64_t n = uint64_t(rs.width) * uint64_t(rs.height);
+  const int msaa = rs.ssaa > 1 || rs.reference ? 1 : rs.msaa;
+  uint64_t perPixel = 8 * uint64_t(msaa) + 4;                      // visibility keys, colour
+  if (rs.wantDepth) perPixel += 4;
+  if (rs.wantPrimId) perPixel += 4;
+  if (rs.wantNormals) perPixel += 12;
+  if (rs.ssaa > 1 || rs.reference) perPixel += sizeof(float4);     // supersampling accumulator
+  const uint64_t frame = mulSat(n, perPixel);
+  // Held besides the frame: the scene, the raster triangles and per-vertex buffers.
+  const uint64_t held = scene_.bytes() + viewBytes(frame_.tris) + viewBytes(frame_.counters) +
+                        mulSat(scene_.numVerts, perVertexBytes_);
+  MemoryLedger ledger(budget_);
+  ledger.charge("the scene and its triangle buffers", held);
+  ledger.check("a " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " framebuffer with " +
+                   std::to_string(msaa) + (msaa == 1 ? " sample" : " samples") + " per pixel",
+               frame);
+}
+
 void Renderer::prepare(const RenderSettings& rs) {
   if (rs.width < 1 || rs.height < 1 || rs.width > kMaxFramebufferSide || rs.height > kMaxFramebufferSide)
     throw Error("image size " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " is outside 1.." +
                 std::to_string(kMaxFramebufferSide) + " per side");
   const size_t n = size_t(rs.width) * size_t(rs.height);
+  if (frame_.vp.width != rs.width || frame_.vp.height != rs.height || frame_.vp.samples.count != rs.msaa ||
+      (rs.wantDepth && !frame_.depth.data()) || (rs.wantPrimId && !frame_.primId.data()) ||
+      (rs.wantNormals && !frame_.normal.data()))
+    checkFrameBudget(rs);
   if (frame_.vp.width != rs.width || frame_.vp.height != rs.height || frame_.vp.samples.count != rs.msaa) {
     frame_.vp = Viewport{rs.width, rs.height, samplePattern(rs.msaa)};
     // Exact size: a smaller frame releases the larger buffers.
@@ -225,6 +286,11 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
   }
   bool fit = true;
   if (need > frame_.triCapacity) {
+    // Clipping can multiply triangles: the larger buffer must fit the budget too.
+    MemoryLedger ledger(budget_);
+    ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.tris));
+    ledger.check("the raster triangle buffer (" + std::to_string(need) + " triangles after clipping)",
+                 mulSat(uint64_t(need) + need / 8, sizeof(RasterTri) + sizeof(uint32_t)));
     frame_.triCapacity = need + need / 8;
     frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
     fit = false;
@@ -256,6 +322,7 @@ FrameStats Renderer::renderSupersampled(const Camera& cam, const RenderSettings&
   // Sub-pixel sample offsets (in pixels from the centre): the centres of a k x k
   // grid for SSAA; one random point in each cell of a 16 x 16 grid (stratified,
   // fixed seed) for the reference.
+  checkFrameBudget(rs);  // with the accumulator, before the first pass allocates
   std::vector<std::pair<double, double>> offsets;
   const int k = rs.reference ? rs.referenceGrid : rs.ssaa;
   if (rs.ssaa != 1 && rs.ssaa != 2 && rs.ssaa != 4 && !rs.reference) throw Error("SSAA supports 2x2 or 4x4");

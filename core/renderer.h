@@ -30,7 +30,9 @@ struct FrameStats {
 
 class Renderer {
  public:
-  explicit Renderer(const Scene& scene);
+  // memoryBudget: bytes the renderer may hold (scene on the device and frame
+  // buffers), checked before each allocation; 0: defaultMemoryBudget().
+  explicit Renderer(const Scene& scene, uint64_t memoryBudget = 0);
 
   // Renders one frame and waits for it. If the frame needed larger buffers
   // than it had, they grow and the frame is rendered again (never capped).
@@ -73,7 +75,11 @@ class Renderer {
   void prepare(const RenderSettings& rs);
   FrameStats renderSupersampled(const Camera& cam, const RenderSettings& rs);
   void runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer);
+  // Throws a one-line Error when the frame buffers for rs would not fit the budget.
+  void checkFrameBudget(const RenderSettings& rs) const;
 
+  uint64_t budget_;  // before scene_: the upload is checked against it
+  uint64_t perVertexBytes_ = 0;  // vertex-stage buffers, per drawn vertex (worst case)
   DeviceScene scene_;
   std::vector<Texture> hostTextures_;  // kept to build mipmaps when first needed
   FrameBuffers frame_;

@@ -166,10 +166,10 @@ Scene builtinScene(const std::string& spec) {
   throw Error("unknown builtin scene '" + name + "' (available:" + names + ")");
 }
 
-Scene loadSceneArg(const std::string& arg) {
+Scene loadSceneArg(const std::string& arg, const LoadOptions& options) {
   if (arg.empty()) return defaultScene();
   if (arg.rfind("builtin:", 0) == 0) return builtinScene(arg);
-  return loadGltf(arg);
+  return loadGltf(arg, options);
 }
 
 }  // namespace rast

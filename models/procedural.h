@@ -2,6 +2,7 @@
 // `builtin:<name>[?key=value&...]`.
 #pragma once
 
+#include "../core/gltf_loader.h"
 #include "../core/scene.h"
 
 #include <string>
@@ -24,7 +25,7 @@ struct BuiltinSceneInfo {
 const std::vector<BuiltinSceneInfo>& builtinScenes();
 
 // Loads a scene argument: empty -> the default scene, "builtin:..." -> a
-// procedural scene, anything else -> a glTF file.
-Scene loadSceneArg(const std::string& arg);
+// procedural scene, anything else -> a glTF file (read as `options` allow).
+Scene loadSceneArg(const std::string& arg, const LoadOptions& options = {});
 
 }  // namespace rast

@@ -49,6 +49,8 @@ struct Builder {
   // `colour`, when given, colours each vertex from its (u, v) in [0,1]^2.
   void grid(int cells, double x0, double y0, double x1, double y1, double z, int32_t mat,
             float4 (*colour)(double u, double v) = nullptr) {
+    // 2 x 8192^2 = 134M triangles; more is a typo (n=1e12), not a test scene.
+    if (cells > 8192) throw Error(s.name + ": at most 8192x8192 grid cells (about 134M triangles)");
     std::vector<float3> p, n;
     std::vector<float4> c;
     std::vector<uint32_t> idx;
@@ -78,6 +80,16 @@ double num(const Params& p, const char* key, double def) {
   return v;
 }
 
+// A count parameter within [lo, hi] (a double outside int's range would be
+// undefined behaviour to convert, and a huge count an out-of-memory).
+int count(const Params& p, const char* key, double def, double lo, double hi) {
+  const double v = num(p, key, def);
+  if (!(v >= lo && v <= hi))
+    throw Error(std::string("builtin scene parameter ") + key + ": " + p.at(key) + " is outside " +
+                std::to_string(int64_t(lo)) + ".." + std::to_string(int64_t(hi)));
+  return int(v);
+}
+
 Scene bigtri(const Params& p) {
   // Triangles covering the whole screen and reaching far beyond it: the naive
   // method walks millions of pixels in one thread; clipping must keep the
@@ -96,7 +108,7 @@ Scene tiny(const Params& p) {
   // Vertex colours (a hue wheel with rings) show that the sub-pixel triangles
   // are there: one flat colour would render as an empty grey frame.
   Builder b("tiny");
-  const double n = num(p, "n", 1000000.0);
+  const double n = count(p, "n", 1000000.0, 1, 2.0 * 8192 * 8192);
   const int cells = std::max(1, int(std::sqrt(n / 2.0)));
   b.grid(cells, -kHalfW, -kHalfH, kHalfW, kHalfH, 0.0, b.material({1, 1, 1, 1}), [](double u, double v) {
     const double x = (u - 0.5) * 16.0 / 9.0, y = v - 0.5;
@@ -112,7 +124,7 @@ Scene overdraw(const Params& p) {
   // Full-screen layers at distinct depths: every method pays per layer; the
   // naive and visibility-buffer methods pay in atomics on the same pixels.
   Builder b("overdraw");
-  const int layers = std::max(1, int(num(p, "layers", 64)));
+  const int layers = count(p, "layers", 64, 1, 65536);
   const bool frontToBack = p.count("order") && p.at("order") == "front";
   if (p.count("order") && p.at("order") != "front" && p.at("order") != "back")
     throw Error("builtin:overdraw order must be front or back");
@@ -129,7 +141,7 @@ Scene slivers(const Params& p) {
   // Needles from a common centre (fan with tiny angles) and horizontal slivers
   // a fraction of a pixel tall spanning the screen.
   Builder b("slivers");
-  const int n = std::max(3, int(num(p, "n", 2000)));
+  const int n = count(p, "n", 2000, 3, 1 << 24);
   std::vector<float3> fan = {{0, 0, 0}};
   std::vector<uint32_t> fi;
   for (int k = 0; k <= n; ++k) {
@@ -221,7 +233,7 @@ Scene gridScene(const Params& p) {
   // A square grid mesh (2 n^2 triangles, side 2) for the triangle-size sweep:
   // move the camera (--eye 0,0,d) to make the same mesh tiny or huge on screen.
   Builder b("grid");
-  const int n = std::max(1, int(num(p, "n", 256)));
+  const int n = count(p, "n", 256, 1, 8192);
   b.grid(n, -1, -1, 1, 1, 0, b.material({0.8f, 0.8f, 0.6f, 1}));
   return b.s;
 }

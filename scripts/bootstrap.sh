@@ -114,7 +114,8 @@ fi
 # ---------------------------------------------------------------- Debian packages
 PACKAGES=(build-essential cmake ninja-build git pkg-config ca-certificates xz-utils dpkg-dev
           libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev catch2 libcli11-dev
-          python3 python3-matplotlib assimp-testmodels)
+          python3 python3-matplotlib assimp-testmodels
+          clang-14 libclang-rt-14-dev libomp-14-dev)  # libFuzzer + ASan/UBSan (scripts/fuzz_loader.sh)
 VIEWER_PACKAGES=(libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri libegl-mesa0
                  libgl-dev libegl-dev libopengl-dev)
 [ "$WITH_VIEWER" -eq 1 ] && PACKAGES+=("${VIEWER_PACKAGES[@]}")

@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/gltf_loader.h"
+#include "core/image_io.h"
 #include "test_support.h"
 
 #include <nlohmann/json.hpp>
@@ -620,7 +621,7 @@ TEST_CASE("loader: textures", "[loader]") {
     d.write("wide.png", pngHeader(20000, 10000));
     CHECK_THAT(docError(texturedTriangle("wide.png"), d, "wideimg"), Contains("20000x10000 texels, more than 16384"));
     d.write("huge.png", pngHeader(100000, 100000));  // stb_image refuses this one itself
-    CHECK_THAT(docError(texturedTriangle("huge.png"), d, "hugeimg"), Contains("image[0]"));
+    CHECK_THAT(docError(texturedTriangle("huge.png"), d, "hugeimg"), Contains("image 0: cannot decode"));
   }
   SECTION("a good PNG is decoded, once for two materials") {
     const std::string dir = test::assimpDir();
@@ -678,4 +679,155 @@ TEST_CASE("loader: required extensions and non-finite attributes", "[loader]") {
   CHECK_THAT(docError(nan, d, "nancolor"), Contains("COLOR_0 accessor 1 has non-finite values"));
   nan.j["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 9;
   CHECK_THAT(docError(nan, d, "badcolor"), Contains("COLOR_0: accessor index 9 out of range"));
+}
+
+// ---------------------------------------------------------------- security and resource limits
+
+namespace {
+
+std::string base64(const std::string& in) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    const uint32_t v = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8 | uint8_t(in[i + 2]);
+    out += {t[v >> 18], t[(v >> 12) & 63], t[(v >> 6) & 63], t[v & 63]};
+  }
+  if (i + 1 == in.size()) {
+    const uint32_t v = uint32_t(uint8_t(in[i])) << 16;
+    out += {t[v >> 18], t[(v >> 12) & 63], '=', '='};
+  } else if (i + 2 == in.size()) {
+    const uint32_t v = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8;
+    out += {t[v >> 18], t[(v >> 12) & 63], t[(v >> 6) & 63], '='};
+  }
+  return out;
+}
+
+// Writes `doc` as FOLDER/NAME.gltf with its buffer embedded as a data: URI.
+std::string writeEmbedded(const Doc& doc, const TempDir& d, const std::string& folder, const std::string& name) {
+  json out = doc.j;
+  out["buffers"] = json::array(
+      {{{"uri", "data:application/octet-stream;base64," + base64(doc.bin)}, {"byteLength", doc.bin.size()}}});
+  fs::create_directories(d.file(folder));
+  return d.write(folder + "/" + name + ".gltf", out.dump());
+}
+
+std::string readAll(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+}  // namespace
+
+TEST_CASE("loader: external files stay inside the scene's folder", "[loader][security]") {
+  TempDir d;
+  // A readable image beside (not inside) the scene's folder, and one inside.
+  writePng(d.file("secret.png"), 2, 2, {0xff0000ffu, 0xff00ff00u, 0xffff0000u, 0xffffffffu});
+  fs::create_directories(d.file("scene/tex"));
+  fs::copy_file(d.file("secret.png"), d.file("scene/tex/inside.png"));
+  const std::string secret = fs::canonical(d.file("secret.png")).string();
+  const auto refused = [&](const std::string& uri, const std::string& name) {
+    return loadError(writeEmbedded(texturedTriangle(uri), d, "scene", name));
+  };
+  const std::string outside = "refusing to read '" + secret + "': it is outside the scene's folder";
+  CHECK_THAT(refused("../secret.png", "dotdot"), Contains(outside));
+  CHECK_THAT(refused("%2e%2e/secret.png", "encoded"), Contains(outside));
+  CHECK_THAT(refused("tex/../../secret.png", "deeper"), Contains(outside));
+  CHECK_THAT(refused(secret, "absolute"), Contains("refusing to read '" + secret + "': an absolute path"));
+  CHECK_THAT(refused("%2F" + secret.substr(1), "absenc"), Contains("an absolute path"));
+  fs::create_symlink(secret, d.file("scene/link.png"));
+  CHECK_THAT(refused("link.png", "symlink"), Contains(outside));
+  // One line, naming the file given on the command line.
+  CHECK(refused("../secret.png", "oneline").find('\n') == std::string::npos);
+
+  SECTION("a buffer outside the folder is refused by the same resolver") {
+    Doc doc;
+    doc.prim({{"attributes", {{"POSITION", doc.vec3(kTriangle)}}}});
+    d.write("outside.bin", doc.bin);
+    json j = doc.j;
+    j["buffers"] = json::array({{{"uri", "../outside.bin"}, {"byteLength", doc.bin.size()}}});
+    const std::string p = d.write("scene/buf.gltf", j.dump());
+    const std::string resolved = fs::canonical(d.file("outside.bin")).string();
+    CHECK_THAT(loadError(p), Contains("buffers[0]: refusing to read '" + resolved + "'"));
+    LoadOptions allow;
+    allow.allowExternalFiles = true;
+    CHECK(loadGltf(p, allow).triangleCount() == 1);
+  }
+  SECTION("inside the folder, data: URIs, and --allow-external-files still load") {
+    CHECK(loadGltf(writeEmbedded(texturedTriangle("tex/inside.png"), d, "scene", "ok")).textures.at(0).width == 2);
+    CHECK(loadGltf(writeEmbedded(texturedTriangle("tex%2Finside.png"), d, "scene", "okenc")).textures.size() == 1);
+    const std::string uri = "data:image/png;base64," + base64(readAll(d.file("secret.png")));
+    CHECK(loadGltf(writeEmbedded(texturedTriangle(uri), d, "scene", "datauri")).textures.at(0).height == 2);
+    LoadOptions allow;
+    allow.allowExternalFiles = true;
+    CHECK(loadGltf(writeEmbedded(texturedTriangle("../secret.png"), d, "scene", "allowed"), allow).textures.size() == 1);
+    CHECK(loadGltf(writeEmbedded(texturedTriangle(secret), d, "scene", "allowedabs"), allow).textures.size() == 1);
+  }
+}
+
+TEST_CASE("loader: stb_image's own reason in image errors", "[loader][security]") {
+  TempDir d;
+  d.write("huge.png", pngHeader(100000, 100000));
+  CHECK_THAT(docError(texturedTriangle("huge.png"), d, "huge"), Contains("image 0: cannot decode (stb_image: too large)"));
+  d.write("gif.png", "GIF89a\x01\x00\x01\x00\x80\x00\x00");
+  const std::string gif = docError(texturedTriangle("gif.png"), d, "gif");
+  CHECK_THAT(gif, Contains("stb_image: "));
+  CHECK_THAT(gif, !Contains("Unknown image format"));
+}
+
+TEST_CASE("loader: memory budget and counts out of proportion to the file", "[loader][security]") {
+  TempDir d;
+  SECTION("a few hundred bytes claiming 2^24 zero-filled vertices") {
+    Doc doc;
+    const int a = doc.accessor(-1, kF32, size_t(1) << 24, "VEC3");
+    for (int k = 0; k < 4; ++k) doc.prim({{"attributes", {{"POSITION", a}}}, {"mode", 5}});
+    CHECK_THAT(docError(doc, d, "zeros"), Contains("has no bufferView and a count of 16777216, out of proportion"));
+  }
+  SECTION("zero-filled accessors in proportion to the file still load") {
+    Doc doc;
+    const int a = doc.accessor(-1, kF32, 30000, "VEC3");  // degenerate, but legal
+    doc.prim({{"attributes", {{"POSITION", a}}}});
+    doc.prim({{"attributes", {{"POSITION", doc.vec3(kTriangle)}}}});
+    CHECK(loadDoc(doc, d, "fewzeros").triangleCount() == 10001);
+  }
+  SECTION("a strip of many indices over the budget is refused before it is read") {
+    Doc doc;
+    std::vector<uint8_t> idx(300000, 0);
+    idx[1] = 1;
+    idx[2] = 2;
+    doc.prim({{"attributes", {{"POSITION", doc.vec3(kTriangle)}}},
+              {"indices", doc.accessor(doc.view(idx), kU8, idx.size(), "SCALAR")},
+              {"mode", 5}});
+    LoadOptions small;
+    small.maxMemory = 8 << 20;
+    const std::string msg = [&] {
+      try {
+        loadGltf(doc.write(d, "strip"), small);
+      } catch (const Error& e) {
+        return std::string(e.what());
+      }
+      return std::string("<loaded>");
+    }();
+    CHECK_THAT(msg, Contains("mesh primitive (3 vertices, 299998 triangles) needs"));
+    CHECK_THAT(msg, Contains("over the memory budget of 8.00 MiB by"));
+    CHECK(loadDoc(doc, d, "strip2").triangleCount() == 299998);  // the default budget takes it
+  }
+  SECTION("decoded image size against the budget, before decoding") {
+    d.write("big.png", pngHeader(16384, 16384));
+    LoadOptions small;
+    small.maxMemory = 512 << 20;
+    try {
+      loadGltf(texturedTriangle("big.png").write(d, "bigimg"), small);
+      FAIL("loaded");
+    } catch (const Error& e) {
+      CHECK_THAT(std::string(e.what()), Contains("image 0 (16384x16384 texels, decoded) needs 2.00 GiB"));
+    }
+  }
+  SECTION("declared buffer sizes against the budget") {
+    Doc doc;
+    doc.prim({{"attributes", {{"POSITION", doc.vec3(kTriangle)}}}});
+    json j = doc.j;
+    j["buffers"] = json::array({{{"byteLength", uint64_t(1) << 40}}});
+    CHECK_THAT(loadError(d.write("bigbuf.gltf", j.dump())), Contains("buffers[0] (byteLength 1099511627776) needs 1.00 TiB"));
+  }
 }

@@ -128,7 +128,7 @@ class Viewer {
  public:
   Viewer(const ViewerOptions& o, const Scene& scene, const Camera& cam, const RenderSettings& rs,
          std::vector<ScriptEvent> script)
-      : opts_(o), renderer_(scene), rs_(rs), orbit_(cam), script_(std::move(script)) {
+      : opts_(o), renderer_(scene, o.scene.memoryBudget()), rs_(rs), orbit_(cam), script_(std::move(script)) {
     scene.worldBounds(boundsLo_, boundsHi_);
     prim_ = rs.polygon == PolygonMode::Line ? PrimMode::Wireframe : rs.polygon == PolygonMode::Point ? PrimMode::Points
                                                                                                     : PrimMode::Triangles;
@@ -735,7 +735,7 @@ int run(int argc, char** argv) {
 
   // Everything that can fail on bad input happens before the window opens.
   RenderSettings rs = o.scene.settings();
-  const Scene scene = loadSceneArg(o.scene.scene);
+  const Scene scene = loadSceneArg(o.scene.scene, o.scene.loadOptions());
   const Camera cam = o.scene.camera(scene);
   o.scene.applySceneLook(scene, rs, /*still=*/false);
   std::vector<ScriptEvent> script;

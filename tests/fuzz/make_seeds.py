@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Writes the loader fuzzer's seed corpus (tests/fuzz/corpus): small glTF and
+GLB files that reach the loader's main paths (embedded and external buffers,
+GLB chunks, indices of each type, strips and fans, sparse accessors, strides,
+node hierarchies, textures by URI and by bufferView). Run it again after
+changing it; the files are kept in the repository."""
+import base64
+import json
+import os
+import struct
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import adversarial  # noqa: E402
+
+out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
+os.makedirs(out, exist_ok=True)
+TRI = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+
+
+def data_uri(b):
+    return "data:application/octet-stream;base64," + base64.b64encode(b).decode()
+
+
+def doc(prims, buf, views, accessors, **extra):
+    d = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+         "meshes": [{"primitives": prims}], "buffers": [buf], "bufferViews": views, "accessors": accessors}
+    d.update(extra)
+    return d
+
+
+def save(name, d):
+    with open(os.path.join(out, name), "wb") as f:
+        f.write(json.dumps(d, separators=(",", ":")).encode())
+
+
+def glb(name, d, binary):
+    js = json.dumps(d, separators=(",", ":")).encode()
+    js += b" " * (-len(js) % 4)
+    binary += b"\0" * (-len(binary) % 4)
+    total = 12 + 8 + len(js) + 8 + len(binary)
+    with open(os.path.join(out, name), "wb") as f:
+        f.write(struct.pack("<4sII", b"glTF", 2, total) + struct.pack("<I4s", len(js), b"JSON") + js +
+                struct.pack("<I4s", len(binary), b"BIN\0") + binary)
+
+
+pos = {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}
+# 1. one triangle, buffer as a data: URI
+save("triangle.gltf", doc([{"attributes": {"POSITION": 0}}], {"byteLength": 36, "uri": data_uri(TRI)},
+                          [{"buffer": 0, "byteLength": 36}], [pos]))
+# 2. external buffer a.bin (the harness writes 64 zero bytes beside the input)
+save("external.gltf", doc([{"attributes": {"POSITION": 0}}], {"byteLength": 64, "uri": "a.bin"},
+                          [{"buffer": 0, "byteLength": 36}], [pos]))
+# 3. GLB with u16 indices, normals, colours and a strip and a fan
+nrm = struct.pack("<9f", 0, 0, 1, 0, 0, 1, 0, 0, 1)
+col = struct.pack("<12f", 1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 1)
+idx = struct.pack("<6H", 0, 1, 2, 2, 1, 0)
+b = TRI + nrm + col + idx
+glb("strip_fan.glb", doc(
+    [{"attributes": {"POSITION": 0, "NORMAL": 1, "COLOR_0": 2}, "indices": 3, "mode": 5},
+     {"attributes": {"POSITION": 0}, "indices": 3, "mode": 6},
+     {"attributes": {"POSITION": 0}, "indices": 3, "mode": 4}],
+    {"byteLength": len(b)},
+    [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36},
+     {"buffer": 0, "byteOffset": 72, "byteLength": 48}, {"buffer": 0, "byteOffset": 120, "byteLength": 12}],
+    [pos, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"},
+     {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC4"},
+     {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}]), b)
+# 4. sparse accessor without a bufferView, u8 and u32 indices, byteStride
+sp_idx = struct.pack("<3B", 0, 1, 2) + b"\0"
+sp_val = TRI
+u32 = struct.pack("<3I", 0, 1, 2)
+strided = b"".join(struct.pack("<3f", *v) + b"\0" * 4 for v in [(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+b = sp_idx + sp_val + u32 + strided
+save("sparse_stride.gltf", doc(
+    [{"attributes": {"POSITION": 0}}, {"attributes": {"POSITION": 1}, "indices": 2}],
+    {"byteLength": len(b), "uri": data_uri(b)},
+    [{"buffer": 0, "byteOffset": 0, "byteLength": 3}, {"buffer": 0, "byteOffset": 4, "byteLength": 36},
+     {"buffer": 0, "byteOffset": 40, "byteLength": 12}, {"buffer": 0, "byteOffset": 52, "byteLength": 48, "byteStride": 16}],
+    [{"componentType": 5126, "count": 3, "type": "VEC3",
+      "sparse": {"count": 3, "indices": {"bufferView": 0, "componentType": 5121}, "values": {"bufferView": 1}}},
+     {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"},
+     {"bufferView": 2, "componentType": 5125, "count": 3, "type": "SCALAR"}]))
+# 5. node hierarchy with transforms, no scene (root nodes), a camera
+d = doc([{"attributes": {"POSITION": 0}}], {"byteLength": 36, "uri": data_uri(TRI)},
+        [{"buffer": 0, "byteLength": 36}], [pos])
+del d["scene"], d["scenes"]
+d["nodes"] = [{"children": [1, 2], "rotation": [0, 0.7071, 0, 0.7071]},
+              {"mesh": 0, "translation": [1, 2, 3], "scale": [2, 2, 2]},
+              {"mesh": 0, "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 5, 0, 0, 1]}]
+d["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]
+save("hierarchy.gltf", d)
+# 6. texture by URI (a.png beside the input) with a sampler
+with open(os.path.join(out, "textured.gltf"), "wb") as f:
+    pass
+adversarial.textured_triangle(out, "textured.gltf", "a.png")
+t = json.load(open(os.path.join(out, "textured.gltf")))
+t["samplers"] = [{"wrapS": 33071, "wrapT": 33648, "magFilter": 9729}]
+t["textures"][0]["sampler"] = 0
+save("textured.gltf", t)
+# 7. GLB with the texture in a bufferView
+png = adversarial._png(2, 2)
+b = TRI + struct.pack("<6f", 0, 0, 1, 0, 0, 1) + png
+glb("textured.glb", {
+    "asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "baseColorFactor": [1, 1, 1, 1]}}],
+    "textures": [{"source": 0}], "images": [{"bufferView": 2, "mimeType": "image/png"}],
+    "buffers": [{"byteLength": len(b)}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                    {"buffer": 0, "byteOffset": 60, "byteLength": len(png)}],
+    "accessors": [pos, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]}, b)
+print(f"wrote {len(os.listdir(out))} seeds to {out}")
