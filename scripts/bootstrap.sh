@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Bootstrap the build dependencies of the Kokkos rasterizer on Debian 12 (bookworm).
 #
-#   bash scripts/bootstrap.sh [--no-viewer] [--hip [--hip-arch gfx90a|gfx1030|gfx908|gfx906]]
+#   bash scripts/bootstrap.sh [--no-viewer] [--hip [--hip-arch gfx90a|gfx908|gfx906]]
 #
 # Idempotent: installs only the Debian packages that are missing (apt-get update only
 # when something must be installed) and builds Kokkos only when none is found.
@@ -18,8 +18,9 @@
 # With --hip it also installs Debian's HIP compiler (hipcc, libamdhip64-dev 5.2.3, which
 # pull clang-15 and the ROCm device libraries) and builds the same Kokkos 3.4.1 source with
 # its HIP backend (+ Serial) for one AMD GPU architecture into <repo>/.deps/kokkos-hip/install,
-# which `cmake --preset hip` finds. Kokkos 3.4.1 predates gfx90a and gfx1030: the script adds
-# both architecture options to a private copy of the source (see patch_kokkos_hip_arch).
+# which `cmake --preset hip` finds. Kokkos 3.4.1 predates gfx90a: the script adds that
+# architecture option to a private copy of the source (see patch_kokkos_hip_arch).
+# gfx1030 (RDNA2) is refused with the reason: it needs a Kokkos >= 4 (docs/hip.md).
 #
 # Options:
 #   --check-source-index  only make Debian's trilinos source package visible to apt
@@ -28,7 +29,7 @@
 #                which are installed by default so that the viewer is built and tested
 #   --hip        also install hipcc and build Kokkos with HIP (default architecture gfx90a)
 #   --hip-arch A AMD GPU architecture for --hip (implies it): gfx90a (MI200, default),
-#                gfx1030 (RDNA2: V620, W6800, RX 6800/6900), gfx908 (MI100), gfx906 (MI50/60)
+#                gfx908 (MI100), gfx906 (MI50/60); not gfx1030 (see docs/hip.md)
 #   -h|--help  show this help
 set -euo pipefail
 
@@ -71,10 +72,14 @@ done
 # Kokkos' name for each AMD GPU architecture (Kokkos_ARCH_<name>).
 case "$HIP_ARCH" in
   gfx90a) HIP_KOKKOS_ARCH=VEGA90A ;;
-  gfx1030) HIP_KOKKOS_ARCH=NAVI1030 ;;
+  # RDNA (gfx10xx) runs 32-wide wavefronts; Kokkos 3.4.1's HIP backend hard-codes 64
+  # (HIPTraits::WarpSize, 32-bit __ballot masks in its atomics, team reductions and scans),
+  # and HIP 5.2's own header refuses the 64-wide mode on GFX10 ("HIP is not supported on
+  # GFX10 with wavefront size 64"). Only a Kokkos that knows 32-wide wavefronts (4.x) works.
+  gfx1030|gfx10*) die "--hip-arch $HIP_ARCH: Kokkos 3.4.1 assumes 64-wide wavefronts and HIP 5.2 refuses them on RDNA (gfx10xx); build a Kokkos >= 4 with HIP for it and set Kokkos_ROOT (docs/hip.md)" ;;
   gfx908) HIP_KOKKOS_ARCH=VEGA908 ;;
   gfx906) HIP_KOKKOS_ARCH=VEGA906 ;;
-  *) die "unsupported --hip-arch $HIP_ARCH (gfx90a, gfx1030, gfx908 or gfx906)" ;;
+  *) die "unsupported --hip-arch $HIP_ARCH (gfx90a, gfx908 or gfx906)" ;;
 esac
 
 T_START=$(date +%s)
@@ -310,22 +315,19 @@ HIP_KOKKOS_LOG="$HIP_KOKKOS_DIR/build.log"
 HIP_KOKKOS_STAMP="$HIP_KOKKOS_DIR/STAMP"
 
 # Kokkos 3.4.1 knows AMD GPUs up to gfx908 (MI100). Its HIP backend itself compiles for
-# newer ones with Debian's hipcc 5.2.3 (clang 15); only the CMake option that names the
-# architecture is missing. Adds Kokkos_ARCH_VEGA90A (gfx90a) and Kokkos_ARCH_NAVI1030
-# (gfx1030) beside VEGA908, the same way VEGA908 is declared, to the private copy in $1.
-# gfx1030 (RDNA2) runs 32-wide wavefronts by default, but Kokkos 3.4.1 hard-codes a
-# 64-wide warp (HIPTraits::WarpSize) in its team reductions and scans: NAVI1030 also
-# compiles with -mwavefrontsize64 (RDNA's wave64 mode), exported to users of Kokkos.
+# gfx90a (MI200, 64-wide wavefronts like gfx908) with Debian's hipcc 5.2.3 (clang 15); only
+# the CMake option that names the architecture is missing. Adds Kokkos_ARCH_VEGA90A beside
+# VEGA908, the same way VEGA908 is declared, to the private copy in $1.
 patch_kokkos_hip_arch() {
   local f="$1/cmake/kokkos_arch.cmake"
   if grep -F 'VEGA90A' "$f" >/dev/null; then return 0; fi  # a Kokkos that knows gfx90a
   grep -F 'KOKKOS_ARCH_OPTION(VEGA908 ' "$f" >/dev/null && grep -F 'CHECK_AMDGPU_ARCH(VEGA908 gfx908)' "$f" >/dev/null \
-    || die "$f: no VEGA908 entries to add gfx90a/gfx1030 beside (not Kokkos 3.4?)"
+    || die "$f: no VEGA908 entries to add gfx90a beside (not Kokkos 3.4?)"
   sed -i \
-    -e '/^KOKKOS_ARCH_OPTION(VEGA908 /a KOKKOS_ARCH_OPTION(VEGA90A         GPU  "AMD GPU MI200 GFX90A (added by rast bootstrap.sh)")\nKOKKOS_ARCH_OPTION(NAVI1030        GPU  "AMD GPU V620/W6800 GFX1030 (added by rast bootstrap.sh)")' \
-    -e '/^CHECK_AMDGPU_ARCH(VEGA908 gfx908)/a CHECK_AMDGPU_ARCH(VEGA90A gfx90a)\nCHECK_AMDGPU_ARCH(NAVI1030 gfx1030)\nIF(KOKKOS_ARCH_NAVI1030)\n  GLOBAL_APPEND(KOKKOS_AMDGPU_OPTIONS -mwavefrontsize64)\nENDIF()' \
+    -e '/^KOKKOS_ARCH_OPTION(VEGA908 /a KOKKOS_ARCH_OPTION(VEGA90A         GPU  "AMD GPU MI200 GFX90A (added by rast bootstrap.sh)")' \
+    -e '/^CHECK_AMDGPU_ARCH(VEGA908 gfx908)/a CHECK_AMDGPU_ARCH(VEGA90A gfx90a)' \
     "$f"
-  grep -F 'CHECK_AMDGPU_ARCH(NAVI1030 gfx1030)' "$f" >/dev/null || die "patching $f failed"
+  grep -F 'CHECK_AMDGPU_ARCH(VEGA90A gfx90a)' "$f" >/dev/null || die "patching $f failed"
 }
 
 ensure_hip_kokkos() {
