@@ -51,6 +51,11 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--raster", raster, "raster method: auto|naive|visbuffer|binned")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
   app.add_option("--background", background, "background colour r,g,b in [0,1], linear (default: black, or the builtin scene's)");
+  app.add_option("--polygon", polygon, "triangles drawn as: fill|line|point")->capture_default_str();
+  app.add_flag("--wireframe", wireframe, "draw triangle edges over the shaded fill");
+  app.add_flag("--hidden-line", hiddenLine, "wireframe whose edges are depth-tested against the fill (implies --wireframe)");
+  app.add_option("--line-width", lineWidth, "line width in pixels, 1..64")->capture_default_str();
+  app.add_option("--point-size", pointSize, "point size in pixels, 1..64")->capture_default_str();
 }
 
 RenderSettings SceneOptions::settings() const {
@@ -81,6 +86,12 @@ RenderSettings SceneOptions::settings() const {
     d.intensity = v.size() == 4 ? float(v[3]) : 0.85f;
     rs.lights.push_back(d);
   }
+  rs.polygon = parsePolygon(polygon);
+  rs.wireframe = hiddenLine ? Wireframe::Hidden : wireframe ? Wireframe::On : Wireframe::Off;
+  if (!(lineWidth >= 1.0 && lineWidth <= 64.0)) throw Error("--line-width must be 1..64 pixels");
+  if (!(pointSize >= 1.0 && pointSize <= 64.0)) throw Error("--point-size must be 1..64 pixels");
+  rs.lineWidth = float(lineWidth);
+  rs.pointSize = float(pointSize);
   if (!background.empty()) {
     const auto bg = parseNumbers(background, "background", 3, 4);
     rs.background = float4{float(bg[0]), float(bg[1]), float(bg[2]), 1.0f};

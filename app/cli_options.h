@@ -24,6 +24,9 @@ struct SceneOptions {
   std::string aa, interp = "perspective";  // aa empty: the scene's look for stills, else none
   bool reference = false;
   int referenceGrid = 16;
+  std::string polygon = "fill";  // points and lines (docs/points-lines.md)
+  bool wireframe = false, hiddenLine = false;
+  double lineWidth = 1.0, pointSize = 1.0;
 
   void addTo(CLI::App& app);
   // Builds settings and camera; throws Error for malformed values.

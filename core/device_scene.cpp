@@ -67,6 +67,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.draws = uploadVec("scene.draws", draws);
   d.drawTriStart = uploadVec("scene.drawTriStart", triStart);
   d.drawVertStart = uploadVec("scene.drawVertStart", vertStart);
+  d.uploadLinesAndPoints(s);
 
   std::vector<MaterialGPU> mats;
   for (const Material& m : s.materials) mats.push_back({m.baseColorFactor, m.texture});
@@ -160,7 +161,8 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(materials) +
-         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncode);
+         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncode) + viewBytes(lines) +
+         viewBytes(points);
 }
 
 }  // namespace rast

@@ -23,10 +23,16 @@ struct DeviceScene {
   DView<float> srgbToLinear;  // 256-entry decode table
   DView<float> srgbEncode;    // 256 thresholds: byte b encodes linear values in [t(b), t(b+1))
 
+  // Drawn line segments, then drawn points, in scene traversal order
+  // (primitive ids after the triangles'; docs/points-lines.md).
+  DView<LineGPU> lines, points;
+  uint32_t numLines = 0, numPoints = 0;
+
   uint32_t numDraws = 0, numTris = 0, numVerts = 0;  // drawn counts
   bool hasUV = false, hasColor = false, hasTextures = false;
 
   static DeviceScene upload(const Scene& scene);
+  void uploadLinesAndPoints(const Scene& scene);  // core/device_lines.cpp
   // (Re)uploads the textures, with full mipmap pyramids when asked (built on
   // the host with sRGB-correct 2x2 averaging). Trilinear filtering needs them;
   // other filters do not pay for them.

@@ -5,6 +5,7 @@
 #include "device.h"
 #include "device_scene.h"
 #include "gpu_types.h"
+#include "raster_lines.h"
 
 namespace rast {
 
@@ -37,6 +38,7 @@ struct FrameBuffers {
   DView<float3> normal;      // AOV, allocated on request
   Kokkos::View<Kokkos::MinMaxScalar<float>, Mem> depthRange;  // depth visualisation only
   Kokkos::View<uint64_t, Mem> sumArea, maxArea;  // raster statistics for RasterMethod::Auto
+  LineFrame lines;           // the point/line pass (raster_lines.h)
 
   // Capacities chosen by the host; the device writes nothing past them and
   // reports the sizes it needed in `counters`.

@@ -674,11 +674,7 @@ class Loader {
     }
     state_.assign(m_.nodes.size(), 0);
     for (int r : roots) traverse(r);
-    if (s_.draws.empty()) {
-      std::string why = "the scene has no triangles to draw";
-      if (skipped_) why += " (" + std::to_string(skipped_) + " point/line primitives skipped: not supported yet)";
-      throw Error(why);
-    }
+    if (s_.draws.empty()) throw Error("the scene has no triangles, lines or points to draw");
   }
 
  private:
@@ -727,7 +723,7 @@ class Loader {
     }
   }
 
-  // Loads the triangle primitives of a mesh once, however many nodes use it.
+  // Loads the primitives of a mesh once, however many nodes use it.
   const std::vector<uint32_t>& meshPrims(int mi) {
     auto it = meshCache_.find(mi);
     if (it != meshCache_.end()) return it->second;
@@ -735,11 +731,7 @@ class Loader {
     const tinygltf::Mesh& mesh = m_.meshes[mi];
     for (const tinygltf::Primitive& p : mesh.primitives) {
       const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
-      if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-        if (mode < 0 || mode > 6) throw Error("primitive mode " + std::to_string(mode) + " is invalid");
-        ++skipped_;
-        continue;
-      }
+      if (mode < 0 || mode > 6) throw Error("primitive mode " + std::to_string(mode) + " is invalid");
       out.push_back(loadPrim(p, mode));
     }
     return out;
@@ -781,7 +773,7 @@ class Loader {
     }
 
     std::vector<float2> uv;
-    if (texCoordSet >= 0) {
+    if (texCoordSet >= 0 && mode >= TINYGLTF_MODE_TRIANGLES) {  // points and lines are not textured
       const int uvA = attr(("TEXCOORD_" + std::to_string(texCoordSet)).c_str());
       if (uvA < 0) throw Error("material samples TEXCOORD_" + std::to_string(texCoordSet) + " which the primitive lacks");
       const std::vector<float> uf = acc_.floats(uvA, 2, "TEXCOORD");
@@ -816,6 +808,31 @@ class Loader {
     for (uint32_t i : seq)
       if (i >= nv)
         throw Error("index " + std::to_string(i) + " out of range: the primitive has " + std::to_string(nv) + " vertices");
+
+    if (mode <= TINYGLTF_MODE_LINE_STRIP) {
+      // Points and lines (docs/points-lines.md): loops and strips become
+      // segment lists here (glTF 2.0 section 3.7.2.1), so the pipeline sees
+      // only points and independent segments. A loop closes with the segment
+      // from its last vertex back to its first; a LINES list of odd length
+      // loses its incomplete last segment; a strip or loop of one vertex draws
+      // nothing.
+      std::vector<uint32_t> seg, pts;
+      if (mode == TINYGLTF_MODE_POINTS) {
+        pts = seq;
+      } else if (mode == TINYGLTF_MODE_LINE) {
+        seg.assign(seq.begin(), seq.end() - seq.size() % 2);
+      } else {
+        for (size_t i = 0; i + 1 < seq.size(); ++i) {
+          seg.push_back(seq[i]);
+          seg.push_back(seq[i + 1]);
+        }
+        if (mode == TINYGLTF_MODE_LINE_LOOP && seq.size() >= 2) {
+          seg.push_back(seq.back());
+          seg.push_back(seq.front());
+        }
+      }
+      return addLinePrim(s_, pos, cA >= 0 ? &col : nullptr, seg, pts, matIndex);
+    }
 
     // Strips and fans become lists (glTF 2.0 section 3.7.2.1). A list whose
     // length is not a multiple of 3 loses its incomplete last triangle.
@@ -875,7 +892,6 @@ class Loader {
   std::map<int, std::vector<uint32_t>> meshCache_;
   std::map<int, std::pair<int32_t, int>> matCache_;
   std::map<int, int32_t> texCache_;
-  int skipped_ = 0;
 };
 
 Scene loadChecked(const std::string& path) {

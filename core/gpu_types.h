@@ -28,7 +28,9 @@ struct TextureGPU {
   int32_t levels;   // mipmap levels stored after level 0 (1: none)
 };
 
-// A vertex in window space: x, y snapped to fixed point, window depth, 1/w.
+// A vertex in window space: x, y in fixed point with kFineBits (16) fractional
+// bits, which hold the position snapped to 1/256 pixel and the rounding
+// residual (depth_plane.h); window depth, 1/w.
 // Computed once per drawn vertex by the vertex stage for the vertices that need
 // no clipping, and per clipped vertex by the setup; both call snapVertex
 // (raster_common.h), so a triangle gets the same bits either way.
@@ -47,6 +49,13 @@ struct RasterTri {
   float invArea;                    // 1 / (twice the fixed-point area)
   uint32_t prim;                    // drawn triangle index (primitive id - 1)
   float bary[3][2];                 // barycentrics (b1, b2) of each vertex in the drawn triangle
+};
+
+// A drawn point or line segment: drawn vertex indices (v1 == v0 for a point),
+// the source vertex of v0 (for its colour) and the draw's material.
+struct LineGPU {
+  uint32_t v0, v1, src0;
+  int32_t material;
 };
 
 // Sample positions within a pixel, in 1/256 pixel relative to its centre (y

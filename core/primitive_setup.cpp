@@ -47,19 +47,22 @@ struct SetupCommon {
 
   // Clips drawn triangle t (corners vi) into a convex polygon and sets up its
   // fan; calls emit(rt) for each raster triangle that survives, in order, and
-  // returns how many did.
-  template <class Emit>
+  // returns how many did. kDepth: the pieces' depths are wanted (not when
+  // only counting), from the drawn triangle's plane (depth_plane.h).
+  template <bool kDepth, class Emit>
   KOKKOS_INLINE_FUNCTION uint32_t clipAndSetUp(uint32_t t, const uint32_t (&vi)[3], bool frontCCW, Emit&& emit) const {
     ClipVert poly[kMaxClipVerts];
     for (int k = 0; k < 3; ++k) poly[k].p = clip(vi[k]);
     poly[0].b1 = 0.0f; poly[0].b2 = 0.0f;
     poly[1].b1 = 1.0f; poly[1].b2 = 0.0f;
     poly[2].b1 = 0.0f; poly[2].b2 = 1.0f;
+    const DepthPlane plane = kDepth ? DepthPlane(poly[0].p, poly[1].p, poly[2].p, vp) : DepthPlane();
     const int n = clipTriangle(poly, gx, gy);
     uint32_t k = 0;
     for (int i = 0; i + 2 < n; ++i) {
       RasterTri rt;
       if (!setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cullBack != 0, frontCCW, t, rt)) continue;
+      if (kDepth) depthFromPlane(rt, plane);
       emit(rt);
       ++k;
     }
@@ -92,7 +95,10 @@ constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces wr
 // clipTriangle would (non-finite or wholly outside one plane: nothing; inside
 // every plane: untouched), and an untouched triangle gets the bits
 // setupTriangle would give it, so the result equals clipping every triangle.
-// `out` holds the raster triangle when the triangle is unclipped and yields one.
+// `out` holds the raster triangle when the triangle is unclipped and yields one;
+// kDepth: with its corner depths on the unsnapped plane (depth_plane.h), which
+// only the write pass needs.
+template <bool kDepth>
 KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped) {
   uint32_t vi[3];
   bool frontCCW;
@@ -110,12 +116,17 @@ KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, Raste
     putCorner(out, 0, s[0], 0.0f, 0.0f);
     putCorner(out, 1, s[1], 1.0f, 0.0f);
     putCorner(out, 2, s[2], 0.0f, 1.0f);
+    if (kDepth) {
+      const int32_t rx[3] = {fineResidual(s[0].x), fineResidual(s[1].x), fineResidual(s[2].x)};
+      const int32_t ry[3] = {fineResidual(s[0].y), fineResidual(s[1].y), fineResidual(s[2].y)};
+      depthAtSnappedCorners(out, rx, ry);
+    }
     return finishTriangle(c.vp, c.cullBack != 0, frontCCW, t, out) ? 1u : 0u;
   }
   if ((any & kCodeNonFinite) || (all & 0x3fu)) return 0;  // not drawable, or wholly outside one plane
   if (!(any & 0x3fu)) return 0;                           // inside every plane, but some w <= 0
   clipped = true;
-  return c.clipAndSetUp(t, vi, frontCCW, [](const RasterTri&) {});
+  return c.clipAndSetUp<false>(t, vi, frontCCW, [](const RasterTri&) {});
 }
 
 KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
@@ -135,7 +146,7 @@ struct CountChunks {
         [&](const uint32_t i, uint32_t& acc) {
           RasterTri rt;
           bool clipped;
-          acc += setupOne(c, first + i, rt, clipped);
+          acc += setupOne<false>(c, first + i, rt, clipped);
         },
         sum);
     Kokkos::single(Kokkos::PerTeam(m), [&]() { chunkCount(chunk) = sum; });
@@ -174,7 +185,7 @@ struct WriteChunks {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
       bool clipped;
       RasterTri rt;
-      const uint32_t k = setupOne(c, first + i, rt, clipped);
+      const uint32_t k = setupOne<true>(c, first + i, rt, clipped);
       count[i] = clipped ? (k | kClippedFlag) : k;
       if (k == 1 && !clipped) {
         Quad q[kTriQuads];
@@ -207,7 +218,7 @@ struct WriteChunks {
       bool frontCCW;
       c.corners(first + i, vi, frontCCW);
       uint32_t o = base + offset[i];
-      c.clipAndSetUp(first + i, vi, frontCCW, [&](const RasterTri& rt) {
+      c.clipAndSetUp<true>(first + i, vi, frontCCW, [&](const RasterTri& rt) {
         if (o < capacity) tris(o) = rt;
         ++o;
       });

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "clip.h"
+#include "depth_plane.h"
 #include "gpu_types.h"
 
 namespace rast {
@@ -35,8 +36,8 @@ KOKKOS_INLINE_FUNCTION SnapVert snapVertex(const float4 p, const Viewport& vp) {
   const float nx = p.x / p.w, ny = p.y / p.w, nz = p.z / p.w;
   const float wx = nx * hw + hw, wy = ny * hh + hh;
   SnapVert s;
-  s.x = int32_t(::floorf(wx * float(kSubOne) + 0.5f));
-  s.y = int32_t(::floorf(wy * float(kSubOne) + 0.5f));
+  s.x = fineCoord(wx * float(kSubOne));  // snapped to 1/256 pixel, plus the residual (depth_plane.h)
+  s.y = fineCoord(wy * float(kSubOne));
   s.z = nz * 0.5f + 0.5f;
   s.invW = iw;
   return s;
@@ -99,11 +100,13 @@ KOKKOS_INLINE_FUNCTION bool finishTriangle(const Viewport& vp, bool cullBack, bo
 }
 
 KOKKOS_INLINE_FUNCTION void putCorner(RasterTri& t, int i, const SnapVert& s, float b1, float b2) {
-  t.x[i] = s.x; t.y[i] = s.y; t.z[i] = s.z; t.invW[i] = s.invW;
+  t.x[i] = fineToSnapped(s.x); t.y[i] = fineToSnapped(s.y); t.z[i] = s.z; t.invW[i] = s.invW;
   t.bary[i][0] = b1; t.bary[i][1] = b2;
 }
 
-// Snaps a clip-space triangle to a RasterTri (see finishTriangle).
+// Snaps a clip-space triangle to a RasterTri (see finishTriangle). Corner
+// depths are those of the corners themselves; the setup replaces them by the
+// drawn triangle's plane (depth_plane.h).
 KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, const ClipVert& c, const Viewport vp,
                                           bool cullBack, bool frontCCW, uint32_t prim, RasterTri& t) {
   const ClipVert* v[3] = {&a, &b, &c};

@@ -36,6 +36,10 @@ const std::pair<const char*, RasterMethod> kRaster[] = {
 const std::pair<const char*, TexFilter> kFilter[] = {
     {"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}, {"trilinear", TexFilter::Trilinear}};
 const std::pair<const char*, CullMode> kCull[] = {{"none", CullMode::None}, {"back", CullMode::Back}};
+const std::pair<const char*, PolygonMode> kPolygon[] = {
+    {"fill", PolygonMode::Fill}, {"line", PolygonMode::Line}, {"point", PolygonMode::Point}};
+const std::pair<const char*, Wireframe> kWireframe[] = {
+    {"off", Wireframe::Off}, {"on", Wireframe::On}, {"hidden", Wireframe::Hidden}};
 
 }  // namespace
 
@@ -47,6 +51,10 @@ ShadingMode parseShading(const std::string& s) { return parseEnum(s, kShading, "
 RasterMethod parseRaster(const std::string& s) { return parseEnum(s, kRaster, "raster method"); }
 TexFilter parseFilter(const std::string& s) { return parseEnum(s, kFilter, "filter"); }
 CullMode parseCull(const std::string& s) { return parseEnum(s, kCull, "cull mode"); }
+PolygonMode parsePolygon(const std::string& s) { return parseEnum(s, kPolygon, "polygon mode"); }
+Wireframe parseWireframe(const std::string& s) { return parseEnum(s, kWireframe, "wireframe mode"); }
+const char* toString(PolygonMode m) { return nameOf(m, kPolygon); }
+const char* toString(Wireframe w) { return nameOf(w, kWireframe); }
 
 void parseAA(const std::string& s, RenderSettings& rs) {
   rs.msaa = rs.ssaa = 1;

@@ -13,6 +13,11 @@ enum class CullMode { None, Back };
 enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel };
 enum class TexFilter { Nearest, Bilinear, Trilinear };
 enum class RasterMethod { Auto, Naive, VisBuffer, Binned };
+// How triangles are drawn (glPolygonMode): filled, as their edges, or as their corners.
+enum class PolygonMode { Fill, Line, Point };
+// Triangle edges drawn over the filled triangles: always on top, or depth-tested
+// against the fill with a small bias so that hidden edges stay hidden.
+enum class Wireframe { Off, On, Hidden };
 
 // Diagnostic modes whose colours are data (normals, texture coordinates, mip
 // level), stored as raw bytes rather than sRGB-encoded light.
@@ -52,7 +57,18 @@ struct RenderSettings {
   int referenceGrid = 16;    // samples per pixel side in reference mode
   uint32_t referenceSeed = 1;
   bool perspectiveCorrect = true;  // false: affine (screen-space) interpolation, for comparison
+  // Points and lines (docs/points-lines.md): glTF point/line primitives, and
+  // triangles drawn as edges or corners.
+  PolygonMode polygon = PolygonMode::Fill;
+  Wireframe wireframe = Wireframe::Off;
+  float lineWidth = 1.0f;  // pixels, 1..64 (1: diamond-exit rule; wider: parallelogram)
+  float pointSize = 1.0f;  // pixels, 1..64 (square points)
 };
+
+PolygonMode parsePolygon(const std::string& s);
+Wireframe parseWireframe(const std::string& s);
+const char* toString(PolygonMode m);
+const char* toString(Wireframe w);
 
 // "none", "ssaa2", "ssaa4", "msaa2", "msaa4", "msaa8" -> rs.msaa / rs.ssaa.
 void parseAA(const std::string& s, RenderSettings& rs);

@@ -14,7 +14,7 @@ namespace rast {
 size_t FrameBuffers::bytes() const {
   return viewBytes(mvp) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) +
          viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
-         viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal);
+         viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes();
 }
 
 SamplePattern samplePattern(int count) {
@@ -115,7 +115,10 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   if (timer) timer->mark("setup");
 
   Kokkos::Profiling::pushRegion("rast::raster");
-  switch (lastMethod_) {
+  const LinePass linePass = makeLinePass(scene_, rs);
+  if (rs.polygon != PolygonMode::Fill) {
+    clearVisibility(frame_);  // triangles drawn as edges or corners only
+  } else switch (lastMethod_) {
     case RasterMethod::Naive:
       clearVisibility(frame_);
       rasterNaive(frame_);
@@ -128,6 +131,8 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
       rasterVisBuffer(frame_);
       break;
   }
+  // Points and lines after the triangles: binned writes every pixel.
+  rasterLinesAndPoints(scene_, frame_, linePass);
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("raster");
 

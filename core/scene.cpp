@@ -13,6 +13,18 @@ uint32_t Scene::triangleCount() const {
   return static_cast<uint32_t>(n);
 }
 
+uint64_t Scene::lineCount() const {
+  uint64_t n = 0;
+  for (const Draw& d : draws) n += prims[d.prim].lineCount;
+  return n;
+}
+
+uint64_t Scene::pointCount() const {
+  uint64_t n = 0;
+  for (const Draw& d : draws) n += prims[d.prim].pointCount;
+  return n;
+}
+
 void Scene::worldBounds(glm::dvec3& lo, glm::dvec3& hi) const {
   lo = glm::dvec3(std::numeric_limits<double>::infinity());
   hi = -lo;
@@ -38,6 +50,12 @@ void Scene::validate() const {
       throw Error("internal: primitive triangle range");
     for (uint64_t i = uint64_t(p.firstTri) * 3; i < (uint64_t(p.firstTri) + p.triCount) * 3; ++i)
       if (indices[i] >= p.vertexCount) throw Error("index out of range");
+    if ((uint64_t(p.firstLine) + p.lineCount) * 2 > lineIndices.size()) throw Error("internal: primitive line range");
+    if (uint64_t(p.firstPoint) + p.pointCount > pointIndices.size()) throw Error("internal: primitive point range");
+    for (uint64_t i = uint64_t(p.firstLine) * 2; i < (uint64_t(p.firstLine) + p.lineCount) * 2; ++i)
+      if (lineIndices[i] >= p.vertexCount) throw Error("index out of range");
+    for (uint64_t i = p.firstPoint; i < uint64_t(p.firstPoint) + p.pointCount; ++i)
+      if (pointIndices[i] >= p.vertexCount) throw Error("index out of range");
     if (p.material >= int32_t(materials.size())) throw Error("internal: material index");
   }
   for (const Material& m : materials)
@@ -94,6 +112,39 @@ uint32_t addPrim(Scene& s, const std::vector<float3>& pos, const std::vector<flo
   }
   p.vertexCount = static_cast<uint32_t>(s.positions.size()) - p.firstVertex;
   p.triCount = static_cast<uint32_t>(s.indices.size() / 3) - p.firstTri;
+  s.prims.push_back(p);
+  return static_cast<uint32_t>(s.prims.size() - 1);
+}
+
+uint32_t addLinePrim(Scene& s, const std::vector<float3>& pos, const std::vector<float4>* col,
+                     const std::vector<uint32_t>& segments, const std::vector<uint32_t>& points, int32_t material) {
+  if (segments.size() % 2 != 0) throw Error("internal: line index count not a multiple of 2");
+  const size_t n = pos.size();
+  if (col && col->size() != n) throw Error("vertex attribute counts differ from the POSITION count");
+  for (uint32_t i : segments)
+    if (i >= n) throw Error("index " + std::to_string(i) + " out of range (" + std::to_string(n) + " vertices)");
+  for (uint32_t i : points)
+    if (i >= n) throw Error("index " + std::to_string(i) + " out of range (" + std::to_string(n) + " vertices)");
+  MeshPrim p;
+  p.firstVertex = static_cast<uint32_t>(s.positions.size());
+  p.firstTri = static_cast<uint32_t>(s.indices.size() / 3);
+  p.firstLine = static_cast<uint32_t>(s.lineIndices.size() / 2);
+  p.firstPoint = static_cast<uint32_t>(s.pointIndices.size());
+  p.material = material;
+  const size_t oldVerts = s.positions.size();
+  const bool withUV = !s.uvs.empty(), withColor = col || !s.colors.empty();
+  if (col && s.colors.empty()) s.colors.assign(oldVerts, float4{1.0f, 1.0f, 1.0f, 1.0f});
+  for (size_t v = 0; v < n; ++v) {
+    s.positions.push_back(pos[v]);
+    s.normals.push_back(float3{0.0f, 0.0f, 1.0f});
+    if (withUV) s.uvs.push_back(float2{0.0f, 0.0f});
+    if (withColor) s.colors.push_back(col ? (*col)[v] : float4{1.0f, 1.0f, 1.0f, 1.0f});
+  }
+  s.lineIndices.insert(s.lineIndices.end(), segments.begin(), segments.end());
+  s.pointIndices.insert(s.pointIndices.end(), points.begin(), points.end());
+  p.vertexCount = static_cast<uint32_t>(n);
+  p.lineCount = static_cast<uint32_t>(segments.size() / 2);
+  p.pointCount = static_cast<uint32_t>(points.size());
   s.prims.push_back(p);
   return static_cast<uint32_t>(s.prims.size() - 1);
 }

@@ -41,6 +41,11 @@ struct Material {
 struct MeshPrim {
   uint32_t firstVertex = 0, vertexCount = 0;
   uint32_t firstTri = 0, triCount = 0;
+  // glTF POINTS / LINES / LINE_LOOP / LINE_STRIP primitives (loops and strips
+  // expanded to segments): ranges of Scene::lineIndices (2 per segment) and
+  // Scene::pointIndices (1 per point). A primitive has one kind only.
+  uint32_t firstLine = 0, lineCount = 0;
+  uint32_t firstPoint = 0, pointCount = 0;
   int32_t material = -1;  // -1: default material (white, untextured)
 };
 
@@ -77,12 +82,16 @@ struct Scene {
   std::vector<float2> uvs;
   std::vector<float4> colors;
   std::vector<uint32_t> indices;  // 3 per triangle, relative to the primitive's firstVertex
+  std::vector<uint32_t> lineIndices;   // 2 per line segment, relative to the primitive's firstVertex
+  std::vector<uint32_t> pointIndices;  // 1 per point, relative to the primitive's firstVertex
   std::vector<MeshPrim> prims;
   std::vector<Draw> draws;  // in scene traversal order: defines primitive ids
   std::vector<Material> materials;
   std::vector<Texture> textures;
 
   uint32_t triangleCount() const;  // drawn triangles, each instance counted
+  uint64_t lineCount() const;      // drawn line segments
+  uint64_t pointCount() const;     // drawn points
   void worldBounds(glm::dvec3& lo, glm::dvec3& hi) const;
   // Checks internal consistency (indices in range, streams sized); throws Error.
   void validate() const;
@@ -93,5 +102,11 @@ struct Scene {
 uint32_t addPrim(Scene& s, const std::vector<float3>& pos, const std::vector<float3>* nrm,
                  const std::vector<float2>* uv, const std::vector<float4>* col,
                  const std::vector<uint32_t>& idx, int32_t material);
+
+// Appends a point or line primitive: `segments` holds 2 indices per segment,
+// `points` 1 per point (one of them empty). Normals are not needed (point and
+// line fragments are unlit) and are stored as +z.
+uint32_t addLinePrim(Scene& s, const std::vector<float3>& pos, const std::vector<float4>* col,
+                     const std::vector<uint32_t>& segments, const std::vector<uint32_t>& points, int32_t material);
 
 }  // namespace rast

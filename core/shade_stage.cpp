@@ -3,6 +3,7 @@
 // centre, makes them perspective-correct, maps them into the drawn triangle
 // (clipping moved the vertices) and interpolates the attributes from there.
 #include "raster_common.h"
+#include "raster_lines.h"
 #include "stages.h"
 #include "texture_sampling.h"
 
@@ -34,6 +35,7 @@ struct Shade {
   int32_t width;
   SamplePattern samples;
   ShadeParams p;
+  LineShade lineShade;  // fragments of points and lines (raster_lines.h)
 
   KOKKOS_INLINE_FUNCTION uint32_t pack(float4 c) const {
     return encodeSrgb8(c.x, encode) | encodeSrgb8(c.y, encode) << 8 | encodeSrgb8(c.z, encode) << 16 |
@@ -83,12 +85,13 @@ struct Shade {
   // for the diagnostic modes (normals, uv, mip level).
   KOKKOS_INLINE_FUNCTION float4 shadeFragment(uint32_t index, int32_t X, int32_t Y, int32_t ox, int32_t oy, float depth,
                                               float3* normalOutV) const {
-    const RasterTri& t = tris(index);
+    const RasterTri& t = tris(index & kLineFlag ? 0 : index);
     if (p.mode == ShadingMode::Depth) {
       const float lo = depthRange().min_val, hi = depthRange().max_val;
       const float g = hi > lo ? 1.0f - (eyeDepth(depth) - lo) / (hi - lo) : 1.0f;
       return float4{g, g, g, 1.0f};
     }
+    if (index & kLineFlag) return lineShade.color(index & ~kLineFlag);
     const Edges e(t);
     float b0, b1, b2;
     bary(t, e, X, Y, ox, oy, b0, b1, b2);
@@ -176,7 +179,8 @@ struct Shade {
     // Outputs: ids and depth of the first sample (as OpenGL resolves integer
     // and depth buffers: one sample).
     if (p.wantDepth) depthOut(i) = bitsFloat(uint32_t(key0 >> 32));
-    if (p.wantPrimId) primOut(i) = idx0 ? tris(idx0 - 1).prim + 1 : 0;
+    if (p.wantPrimId)
+      primOut(i) = idx0 == 0 ? 0 : (idx0 - 1) & kLineFlag ? lineShade.primId((idx0 - 1) & ~kLineFlag) : tris(idx0 - 1).prim + 1;
     float3 n0{0.0f, 0.0f, 0.0f};
     if (S == 1) {
       color(i) = idx0 ? display(shadeFragment(idx0 - 1, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
@@ -250,7 +254,7 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   }
   Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
-          f.depth, f.primId, f.normal, lights, f.depthRange, f.vp.width, f.vp.samples, p};
+          f.depth, f.primId, f.normal, lights, f.depthRange, f.vp.width, f.vp.samples, p, makeLineShade(s, f.lines)};
   Kokkos::parallel_for("rast::shade", lightweight(Range(0, n)), k);
 }
 

@@ -103,7 +103,9 @@ void exportGlb(const Scene& s, const std::string& path) {
   }
   for (const MeshPrim& p : s.prims) {
     tinygltf::Primitive gp;
-    gp.mode = TINYGLTF_MODE_TRIANGLES;
+    // A primitive has one kind: points, line segments (LINES) or triangles.
+    const bool points = p.pointCount > 0, lines = p.lineCount > 0;
+    gp.mode = points ? TINYGLTF_MODE_POINTS : lines ? TINYGLTF_MODE_LINE : TINYGLTF_MODE_TRIANGLES;
     gp.material = p.material;
     gp.attributes["POSITION"] = w.accessor(&s.positions[p.firstVertex], p.vertexCount, TINYGLTF_COMPONENT_TYPE_FLOAT, 3,
                                            TINYGLTF_TARGET_ARRAY_BUFFER, true);
@@ -115,8 +117,11 @@ void exportGlb(const Scene& s, const std::string& path) {
     if (!s.colors.empty())
       gp.attributes["COLOR_0"] = w.accessor(&s.colors[p.firstVertex], p.vertexCount, TINYGLTF_COMPONENT_TYPE_FLOAT, 4,
                                             TINYGLTF_TARGET_ARRAY_BUFFER);
-    gp.indices = w.accessor(&s.indices[size_t(p.firstTri) * 3], size_t(p.triCount) * 3,
-                            TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 1, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    const uint32_t* idx = points  ? s.pointIndices.data() + p.firstPoint
+                          : lines ? s.lineIndices.data() + size_t(p.firstLine) * 2
+                                  : s.indices.data() + size_t(p.firstTri) * 3;
+    const size_t n = points ? p.pointCount : lines ? size_t(p.lineCount) * 2 : size_t(p.triCount) * 3;
+    gp.indices = w.accessor(idx, n, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 1, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     tinygltf::Mesh mesh;
     mesh.primitives.push_back(gp);
     m.meshes.push_back(mesh);

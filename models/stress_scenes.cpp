@@ -226,6 +226,66 @@ Scene gridScene(const Params& p) {
   return b.s;
 }
 
+// splitmix64 in [0, 1): the same scene on every machine.
+struct Rng {
+  uint64_t s;
+  double next() {
+    uint64_t z = (s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return double((z ^ (z >> 31)) >> 11) / double(1ull << 53);
+  }
+};
+
+Scene linesScene(const Params& p) {
+  // n line segments (default 1M) over the view at depths in [-1, 1]: most a
+  // few to a few tens of pixels long at 1920x1080, one in a thousand spanning
+  // the screen (the bounded-work case), coloured per vertex; and a quad at
+  // z = 0 that hides the segments behind it.
+  Builder b("lines");
+  const int64_t n = std::max<int64_t>(1, int64_t(num(p, "n", 1000000.0)));
+  if (n > 100000000) throw Error("builtin:lines n must be at most 1e8");
+  Rng r{12345};
+  std::vector<float3> pos;
+  std::vector<float4> col;
+  std::vector<uint32_t> seg;
+  pos.reserve(size_t(2 * n));
+  for (int64_t i = 0; i < n; ++i) {
+    const double x = (r.next() * 2 - 1) * kHalfW, y = (r.next() * 2 - 1) * kHalfH, z = r.next() * 2 - 1;
+    const double len = (i % 1000 == 0) ? 2 * kHalfW : 0.01 + 0.12 * r.next() * r.next();
+    const double a = r.next() * 6.283185307179586;
+    pos.push_back({float(x), float(y), float(z)});
+    pos.push_back({float(x + len * std::cos(a)), float(y + len * std::sin(a)), float(z)});
+    col.push_back(hue(int(i % 97), 97));
+    col.push_back(hue(int(i % 97), 97));
+    seg.push_back(uint32_t(2 * i));
+    seg.push_back(uint32_t(2 * i + 1));
+  }
+  b.quad(-1.0, -1.0, 1.0, 1.0, 0.0, b.material({0.5f, 0.5f, 0.5f, 1}));
+  b.s.draws.push_back(Draw{addLinePrim(b.s, pos, &col, seg, {}, b.material({1, 1, 1, 1})), glm::dmat4(1.0)});
+  return b.s;
+}
+
+Scene pointsScene(const Params& p) {
+  // n points (default 1M) over the view at depths in [-1, 1], coloured per
+  // vertex, and the same occluding quad as builtin:lines.
+  Builder b("points");
+  const int64_t n = std::max<int64_t>(1, int64_t(num(p, "n", 1000000.0)));
+  if (n > 100000000) throw Error("builtin:points n must be at most 1e8");
+  Rng r{54321};
+  std::vector<float3> pos;
+  std::vector<float4> col;
+  std::vector<uint32_t> pts;
+  for (int64_t i = 0; i < n; ++i) {
+    pos.push_back({float((r.next() * 2 - 1) * kHalfW), float((r.next() * 2 - 1) * kHalfH), float(r.next() * 2 - 1)});
+    col.push_back(hue(int(i % 97), 97));
+    pts.push_back(uint32_t(i));
+  }
+  b.quad(-1.0, -1.0, 1.0, 1.0, 0.0, b.material({0.5f, 0.5f, 0.5f, 1}));
+  b.s.draws.push_back(Draw{addLinePrim(b.s, pos, &col, {}, pts, b.material({1, 1, 1, 1})), glm::dmat4(1.0)});
+  return b.s;
+}
+
 Params parseParams(const std::string& q) {
   Params p;
   std::stringstream ss(q);
@@ -255,6 +315,8 @@ const std::vector<StressSceneRow>& stressSceneTable() {
       {{"extreme", "the same content at 1e6 or 1e-6 scale (?scale=)"}, extreme},
       {{"zfight", "coplanar and crossing planes: ties in depth"}, zfight},
       {{"grid", "a 2n^2-triangle grid for triangle-size sweeps (?n=)"}, gridScene},
+      {{"lines", "a million line segments, vertex-coloured, and an occluding quad (?n=)"}, linesScene},
+      {{"points", "a million points, vertex-coloured, and an occluding quad (?n=)"}, pointsScene},
   };
   return rows;
 }

@@ -16,6 +16,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from csv_rows import write_rows  # noqa: E402
+from progress import Progress  # noqa: E402
 
 STABILITY = ["builtin:default", "builtin:bigtri", "builtin:tiny", "builtin:overdraw?layers=64",
              "builtin:overdraw?layers=64&order=front", "builtin:slivers", "builtin:nearplane",
@@ -61,7 +62,9 @@ def main():
     for m in ["cow.glb", "duck.glb", "milktruck.glb", "engine.glb"]:
         if os.path.exists(os.path.join(models, m)):
             scenes.append(os.path.join(models, m))
+    progress = Progress("bench_methods: run", len(scenes) + len(SWEEP_DISTANCES))
     for s in scenes:
+        progress.step(s)
         for r in run_bench(a.rast, s, a.size, a.frames, a.warmup, []):
             r["kind"] = "scene"
             r["scene"] = os.path.basename(s) if s.endswith(".glb") else s
@@ -71,10 +74,12 @@ def main():
         tri_px = (2.0 / SWEEP_N) * (height / 2) / (d * 0.41421356)
         extra = ["--eye", f"0.0137,0.0091,{d}", "--target", "0.0137,0.0091,0", "--near", str(d / 1000),
                  "--far", str(d * 10 + 10)]
+        progress.step(f"sweep d={d}")
         for r in run_bench(a.rast, f"builtin:grid?n={SWEEP_N}", a.size, a.frames, a.warmup, extra):
             r["kind"] = "sweep"
             r["tri_px"] = f"{tri_px:.4g}"
             rows.append(r)
+    progress.close()
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
     write_rows(a.out, rows)
     print(f"wrote {a.out} ({len(rows)} rows)")

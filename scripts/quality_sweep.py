@@ -32,6 +32,8 @@ import math
 import os
 import shlex
 import subprocess
+
+from progress import Progress
 import sys
 import tempfile
 
@@ -175,6 +177,7 @@ def main():
 
     rows, skipped = [], 0
     base = ["--size", a.size]
+    progress = Progress("quality_sweep: render", len(scenes) * len(aa_modes) * len(filters) * len(methods))
     for label, scene, cam in scenes:
         print(f"== {label} {' '.join(cam)}", flush=True)
         tag = "".join(c if c.isalnum() else "_" for c in label)
@@ -206,6 +209,7 @@ def main():
             for flt in filters:
                 for meth in methods:
                     name = f"aa={aa} filter={flt} method={meth}"
+                    progress.step(f"{label} {name}")
                     if aa_flags[aa] is None or not filter_ok[flt]:
                         skipped += 1
                         continue  # noted once above
@@ -246,6 +250,7 @@ def main():
                           + (f"  [{ref_label}]" if ref_label == FAKE_LABEL else ""), flush=True)
 
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
+    progress.close()
     with open(a.out, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()

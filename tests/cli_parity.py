@@ -19,7 +19,11 @@ args = ap.parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 
 scenes = ["", "builtin:default", "builtin:bigtri", "builtin:tiny?n=20000", "builtin:overdraw?layers=64",
-          "builtin:slivers", "builtin:nearplane", "builtin:degenerate", "builtin:extreme?scale=1e6", "builtin:zfight"]
+          "builtin:slivers", "builtin:nearplane", "builtin:degenerate", "builtin:extreme?scale=1e6", "builtin:zfight",
+          # points and lines (docs/points-lines.md); "SCENE|FLAGS" adds render flags
+          "builtin:lines?n=20000", "builtin:lines?n=5000|--line-width|2.5", "builtin:points?n=20000|--point-size|3",
+          "builtin:default|--polygon|line", "builtin:default|--polygon|point|--point-size|2",
+          "builtin:default|--hidden-line", "builtin:nearplane|--wireframe|--aa|msaa4"]
 if args.assimp and os.path.isdir(args.assimp):
     for rel in ["BoxTextured-glTF-Binary/BoxTextured.glb", "2CylinderEngine-glTF-Binary/2CylinderEngine.glb"]:
         p = os.path.join(args.assimp, rel)
@@ -45,7 +49,8 @@ else:
 
 def render(exe, scene, method, tag):
     base = os.path.join(args.workdir, tag)
-    cmd = [exe, "render"] + ([scene] if scene else []) + [
+    scene, *flags = scene.split("|")
+    cmd = [exe, "render"] + ([scene] if scene else []) + flags + [
         "--size", args.size, "--raster", method, "-o", base + ".png",
         "--aov", f"primid={base}.ids,depth={base}.pfm"]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)

@@ -10,7 +10,8 @@
      (the default scene seen from below the ground, where culling removes the
      ground); M changes the method in use, shown in the overlay (the raster
      methods are bit-identical by design, so the pipeline image may not change);
- (d) keys 2/3 report "unavailable", keep triangles and do not crash.
+ (d) keys 2/3 switch to wireframe (polygon mode line) and points, each image equal to
+     `rast render --polygon line|point`; key 1 returns to the same triangles.
 
 Exit 77 (skipped) when rast-viewer or xvfb-run is missing.
 Standard library only: PNGs are read by tests/rastimg.py."""
@@ -264,23 +265,37 @@ else:
     check(False, "mode screenshots written")
 
 # ------------------------------------------------------------------ (d) 2 / 3
-print("(d) wireframe and points are reported unavailable")
+print("(d) keys 1/2/3: triangles, wireframe, points")
 r = run_viewer("prim", """frame
 screenshot p0.png
 key 2
 frame
+screenshot p2.png
+print-state
 key 3
 frame 2
+screenshot p3.png
+print-state
 key 1
+frame
 screenshot p1.png
 print-state
+print-camera
 """)
 check(r.returncode == 0, f"prim script ran (rc {r.returncode}) {r.stderr.strip()[-300:]}")
-check("wireframe mode unavailable" in r.stdout, "key 2 reports wireframe unavailable")
-check("points mode unavailable" in r.stdout, "key 3 reports points unavailable")
-check("mode=triangles" in r.stdout, "still drawing triangles")
-if os.path.exists(wd("p0.png")) and os.path.exists(wd("p1.png")):
-    check(read_png(wd("p0.png"))[2] == read_png(wd("p1.png"))[2], "image unchanged by 2/3")
+check("mode=wireframe" in r.stdout and "mode=points" in r.stdout, "keys 2 and 3 switch the mode")
+states = [l for l in r.stdout.splitlines() if l.startswith("state: ")]
+check(len(states) == 3 and "mode=triangles" in states[-1], "key 1 returns to triangles")
+shots = [wd(n) for n in ("p0.png", "p2.png", "p3.png", "p1.png")]
+if all(os.path.exists(s) for s in shots):
+    p0, p2, p3, p1 = (read_png(s)[2] for s in shots)
+    check(p0 == p1, "key 1 gives the original image back")
+    check(p2 != p0 and p3 != p0 and p2 != p3, "wireframe and points draw different images")
+    cam = camera_of([l for l in r.stdout.splitlines() if l.startswith("camera: ")][-1][len("camera: "):])
+    for shot, mode in ((p2, "line"), (p3, "point")):
+        rast_render(wd(f"ref-{mode}.png"), flags_of(cam) + ["--polygon", mode])
+        d = mean_abs_diff(shot, read_png(wd(f"ref-{mode}.png"))[2])
+        check(d < 1.0, f"viewer mode {mode} == rast render --polygon {mode} (mean abs diff {d:.4f})")
 else:
     check(False, "prim screenshots written")
 

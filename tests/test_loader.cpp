@@ -87,26 +87,28 @@ const std::map<std::string, Expect>& assimpTable() {
       {"BoxTextured-glTF-pbrSpecularGlossiness/BoxTextured.gltf", loads(12, 1, 1, -h, h)},
       {"ClearCoat-glTF/ClearCoatTest.gltf", loads(37116, 27, 1, {-7.3578, -6.25, -0.06}, {3.1, 6.85452, 1.05})},
       // Vertex counts that are not multiples of 3 lose the incomplete triangle
-      // (12 + 11 + 12 + 11; the LINES meshes are skipped), as assimp does. Its
-      // unused accessors 2-4 point past the buffer: only data read is checked.
-      {"IncorrectVertexArrays/Cube.gltf", loads(46, 4, 0, {-3.5, -1.0, -1.0}, {3.5, 1.0, 3.5})},
+      // (12 + 11 + 12 + 11; the four LINES meshes add segments and draws), as
+      // assimp does. Its unused accessors 2-4 point past the buffer: only data
+      // read is checked.
+      {"IncorrectVertexArrays/Cube.gltf", loads(46, 8, 0, {-3.5, -1.0, -3.5}, {3.5, 1.0, 3.5})},
       {"cameras/Cameras.gltf", loads(2, 1, 0, {0.0, 0.0, -0.707592}, {1.0, 0.706622, 0.0})},
       {"glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf", loads(12, 1, 0, -one, one)},
       {"simple_skin/simple_skin.gltf", loads(8, 1, 0, {0.0, 0.0, 0.0}, {1.0, 2.0, 0.0})},
       {"textureTransform/TextureTransformTest.gltf", loads(24, 12, 5, {-1.6, -1.14127, 0.0}, {1.6, 1.05, 0.01})},
-      // Primitive modes: 0-3 and 7-10 are points/lines (not drawn yet), 4/11
-      // strips, 5/12 fans, 6/13-15 lists; 4 vertices make n-2 = 2 triangles.
-      {pm + "00.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
-      {pm + "01.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
-      {pm + "02.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
-      {pm + "03.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
+      // Primitive modes: 0-3 and 7-10 are points/lines (no triangles; see
+      // test_lines_points.cpp), 4/11 strips, 5/12 fans, 6/13-15 lists; 4
+      // vertices make n-2 = 2 triangles.
+      {pm + "00.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
+      {pm + "01.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
+      {pm + "02.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
+      {pm + "03.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
       {pm + "04.gltf", loads(2, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
       {pm + "05.gltf", loads(2, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
       {pm + "06.gltf", loads(2, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
-      {pm + "07.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
-      {pm + "08.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
-      {pm + "09.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
-      {pm + "10.gltf", fails("no triangles to draw (1 point/line primitives skipped")},
+      {pm + "07.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
+      {pm + "08.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
+      {pm + "09.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
+      {pm + "10.gltf", loads(0, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
       {pm + "11.gltf", loads(2, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
       {pm + "12.gltf", loads(2, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
       {pm + "13.gltf", loads(2, 1, 0, {-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0})},
@@ -122,8 +124,8 @@ const std::map<std::string, Expect>& assimpTable() {
       {"RecursiveNodes/RecursiveNodes.gltf", fails("node hierarchy has a cycle through node 0")},
       // "scene": "hello" (its buffer is missing too; the type is reported first).
       {"SchemaFailures/sceneWrongType.gltf", fails("scene: expected an index")},
-      {"TestNoRootNode/NoScene.gltf", fails("the scene has no triangles to draw")},
-      {"TestNoRootNode/SceneWithoutNodes.gltf", fails("the scene has no triangles to draw")},
+      {"TestNoRootNode/NoScene.gltf", fails("the scene has no triangles, lines or points to draw")},
+      {"TestNoRootNode/SceneWithoutNodes.gltf", fails("the scene has no triangles, lines or points to draw")},
       // The material samples TEXCOORD_0; the primitive only has TEXCOORD_1.
       {"issue_3269/texcoord_crash.gltf", fails("material samples TEXCOORD_0 which the primitive lacks")},
       {"wrongTypes/badArray.gltf", fails("meshes[0].primitives: expected an array, got an object")},

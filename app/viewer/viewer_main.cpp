@@ -129,6 +129,8 @@ class Viewer {
          std::vector<ScriptEvent> script)
       : opts_(o), renderer_(scene), rs_(rs), orbit_(cam), script_(std::move(script)) {
     scene.worldBounds(boundsLo_, boundsHi_);
+    prim_ = rs.polygon == PolygonMode::Line ? PrimMode::Wireframe : rs.polygon == PolygonMode::Point ? PrimMode::Points
+                                                                                                    : PrimMode::Triangles;
     std::istringstream dd(deviceDescription());
     for (std::string l; std::getline(dd, l);) {
       if (l.rfind("backend: ", 0) == 0) backend_ = l.substr(9);
@@ -177,7 +179,7 @@ class Viewer {
   GLFWwindow* win_ = nullptr;
   std::unique_ptr<GlDisplay> display_;
   bool imgui_ = false, overlay_ = true, help_ = false, quit_ = false, dirty_ = true, shotRequested_ = false;
-  PrimMode prim_ = PrimMode::Triangles;
+  PrimMode prim_ = PrimMode::Triangles;  // follows rs_.polygon
   std::string notice_;
   Clock::time_point noticeAt_{};
 
@@ -308,14 +310,12 @@ void Viewer::onKey(int key, int mods) {
   const bool shift = (mods & GLFW_MOD_SHIFT) != 0;
   switch (key) {
     case GLFW_KEY_1:
-      prim_ = PrimMode::Triangles;
-      notice("mode triangles");
-      break;
     case GLFW_KEY_2:
     case GLFW_KEY_3:
-      // Line and point rasterisation are not in the pipeline yet: the mode stays.
-      notice(std::string(key == GLFW_KEY_2 ? "wireframe" : "points") +
-             " mode unavailable: the pipeline has no line/point rasterisation yet (showing triangles)");
+      // Triangles filled, as their edges (polygon mode line) or as their corners.
+      prim_ = key == GLFW_KEY_1 ? PrimMode::Triangles : key == GLFW_KEY_2 ? PrimMode::Wireframe : PrimMode::Points;
+      rs_.polygon = key == GLFW_KEY_1 ? PolygonMode::Fill : key == GLFW_KEY_2 ? PolygonMode::Line : PolygonMode::Point;
+      notice(std::string("mode ") + toString(prim_));
       break;
     case GLFW_KEY_C:
       rs_.cull = rs_.cull == CullMode::Back ? CullMode::None : CullMode::Back;
@@ -440,16 +440,13 @@ void Viewer::drawOverlay() {
     ImGui::Text("resolution %dx%d%s", rs_.width, rs_.height, display_->interopActive() ? "  (CUDA-GL interop)" : "");
     ImGui::Separator();
 
-    int prim = 0;
-    ImGui::RadioButton("triangles (1)", &prim, 0);
-    ImGui::BeginDisabled(true);
+    int prim = int(prim_);
+    bool primChanged = ImGui::RadioButton("triangles (1)", &prim, 0);
     ImGui::SameLine();
-    ImGui::RadioButton("wireframe (2)", &prim, 1);
+    primChanged |= ImGui::RadioButton("wireframe (2)", &prim, 1);
     ImGui::SameLine();
-    ImGui::RadioButton("points (3)", &prim, 2);
-    ImGui::EndDisabled();
-    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-      ImGui::SetTooltip("not available yet: the pipeline has no line/point rasterisation");
+    primChanged |= ImGui::RadioButton("points (3)", &prim, 2);
+    if (primChanged) onKey(GLFW_KEY_1 + prim, 0);
 
     bool cull = rs_.cull == CullMode::Back;
     if (ImGui::Checkbox("back-face culling (C)", &cull)) onKey(GLFW_KEY_C, 0);
@@ -606,9 +603,9 @@ void Viewer::takeRequestedShots() {
 
 std::string Viewer::stateLine() const {
   char b[256];
-  std::snprintf(b, sizeof b, "--size %dx%d --cull %s --shading %s --filter %s --raster %s method=%s mode=%s",
+  std::snprintf(b, sizeof b, "--size %dx%d --cull %s --shading %s --filter %s --raster %s --polygon %s method=%s mode=%s",
                 rs_.width, rs_.height, toString(rs_.cull), toString(rs_.shading), toString(rs_.filter),
-                toString(rs_.raster), toString(renderer_.resolveMethod(rs_)), toString(prim_));
+                toString(rs_.raster), toString(rs_.polygon), toString(renderer_.resolveMethod(rs_)), toString(prim_));
   return b;
 }
 
