@@ -1,7 +1,8 @@
-// Per-stage timing of a frame. The only backend-specific piece of the timing:
-// on CUDA it records events on the execution stream (no host wait between
-// stages); elsewhere it fences and reads a host clock, which costs nothing
-// extra because host backends run kernels synchronously anyway.
+// Per-stage timing of a frame, and the device description. Implemented once
+// per kind of backend, and CMakeLists.txt compiles the one that matches the
+// core library's execution space: backend_cuda.cpp and backend_hip.cpp record
+// events on the execution stream (no host wait between stages,
+// event_stage_timer.h); backend_host.cpp fences and reads a host clock.
 #pragma once
 
 #include <memory>

@@ -49,7 +49,7 @@ elseif(RAST_CUDA_STATIC_RUNTIME)
   message(STATUS "RastCuda: CUDA::cudart / CUDA::cudart_static not found; runtime linkage left to Kokkos")
 endif()
 
-# backends/stage_timer.cpp includes <cuda_runtime.h>. nvcc (through nvcc_wrapper)
+# backends/backend_cuda.cpp includes <cuda_runtime.h>. nvcc (through nvcc_wrapper)
 # finds it on its own; name the toolkit's include directory too for tools reading
 # compile_commands.json -- unless it is a system directory (Debian's toolkit lives
 # in /usr/include), where -isystem would reorder the C library's headers.

@@ -5,11 +5,12 @@
 #   Kokkos_VERSION          e.g. 3.4.01 / 4.7.01
 #   Kokkos_DEVICES          enabled backends, upper case, e.g. OPENMP;SERIAL
 #   RAST_KOKKOS_ROUTE       installed | source | download
-#   RAST_EXEC_SPACE         cache STRING: Default | Serial | OpenMP | Cuda
+#   RAST_EXEC_SPACE         cache STRING: Default | Serial | OpenMP | Cuda | HIP
 #
 # Routes, first match wins:
 #   (a) installed: find_package(Kokkos CONFIG) honouring Kokkos_ROOT / CMAKE_PREFIX_PATH,
-#       with ${PROJECT_SOURCE_DIR}/.deps/kokkos/install (scripts/bootstrap.sh) as a hint;
+#       with ${PROJECT_SOURCE_DIR}/.deps/kokkos/install (scripts/bootstrap.sh) as a hint,
+#       or .deps/kokkos-hip/install (bootstrap.sh --hip) when RAST_EXEC_SPACE is HIP;
 #   (b) source:    -DRAST_KOKKOS_SOURCE=<Kokkos source tree> is built in-tree
 #                  (OpenMP+Serial by default, CUDA when -DKokkos_ENABLE_CUDA=ON);
 #   (c) download:  RAST_KOKKOS_DOWNLOAD=ON (default) fetches the official Kokkos release
@@ -26,7 +27,7 @@ endif()
 
 set(RAST_EXEC_SPACE "Default" CACHE STRING
     "Kokkos execution space the rasterizer runs on (Default = Kokkos::DefaultExecutionSpace)")
-set_property(CACHE RAST_EXEC_SPACE PROPERTY STRINGS Default Serial OpenMP Cuda)
+set_property(CACHE RAST_EXEC_SPACE PROPERTY STRINGS Default Serial OpenMP Cuda HIP)
 
 set(RAST_KOKKOS_SOURCE "" CACHE PATH
     "Local Kokkos source tree to build in-tree when no installed Kokkos is found")
@@ -77,8 +78,13 @@ endmacro()
 set(RAST_KOKKOS_ROUTE "")
 
 # (a) an installed Kokkos
-find_package(Kokkos CONFIG QUIET
-             HINTS "${PROJECT_SOURCE_DIR}/.deps/kokkos/install")
+if(RAST_EXEC_SPACE STREQUAL "HIP")
+  set(_rast_kokkos_hint "${PROJECT_SOURCE_DIR}/.deps/kokkos-hip/install")
+else()
+  set(_rast_kokkos_hint "${PROJECT_SOURCE_DIR}/.deps/kokkos/install")
+endif()
+find_package(Kokkos CONFIG QUIET HINTS "${_rast_kokkos_hint}")
+unset(_rast_kokkos_hint)
 if(Kokkos_FOUND)
   set(RAST_KOKKOS_ROUTE "installed")
   set(_rast_kokkos_where "${Kokkos_DIR}")

@@ -3,26 +3,17 @@
 // Every kernel of the renderer runs in rast::Exec and every device buffer lives
 // in rast::Mem. The CMake option RAST_EXEC_SPACE picks the space; a build can
 // compile the same sources twice (e.g. OpenMP and Serial) to compare backends.
+// What is backend-specific (the space itself, team sizes and thread counts) is
+// in backends/exec_space.h and backends/tuning.h; this header only forwards.
 #pragma once
+
+#include "../backends/exec_space.h"
+#include "../backends/tuning.h"
 
 #include <Kokkos_Core.hpp>
 #include <cstdint>
 
 namespace rast {
-
-#if defined(RAST_EXEC_SERIAL)
-using Exec = Kokkos::Serial;
-#elif defined(RAST_EXEC_OPENMP)
-using Exec = Kokkos::OpenMP;
-#elif defined(RAST_EXEC_CUDA)
-using Exec = Kokkos::Cuda;
-#elif defined(RAST_EXEC_HIP)
-using Exec = Kokkos::Experimental::HIP;
-#else
-using Exec = Kokkos::DefaultExecutionSpace;
-#endif
-
-using Mem = Exec::memory_space;
 
 // 1-D device buffer and its host mirror type.
 template <class T>
@@ -43,14 +34,6 @@ template <class Policy>
 auto lightweight(const Policy& p) {
   return Kokkos::Experimental::require(p, Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
-
-// Threads per team for the team kernels: a full block of threads on a GPU; on
-// a CPU a team is one thread that loops over the team's range.
-#if defined(RAST_EXEC_CUDA) || defined(RAST_EXEC_HIP)
-constexpr int kTeamSize = 256;
-#else
-constexpr int kTeamSize = 1;
-#endif
 
 // Allocate a device buffer without initialising it: every kernel that reads a
 // buffer first has it written by an earlier stage, so zero-filling would be

@@ -49,8 +49,4 @@ struct FrameBuffers {
   size_t bytes() const;
 };
 
-// Threads to launch for persistent (grid-stride) loops whose trip count is only
-// known on the device: enough to fill every core or multiprocessor.
-uint32_t persistentThreads();
-
 }  // namespace rast

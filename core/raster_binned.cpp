@@ -167,11 +167,7 @@ void rasterBinned(FrameBuffers& f) {
   g.triSlots = f.triCapacity;
   // Enough batches to keep every core (or a good part of a GPU) busy, few
   // enough that the (tile, batch) count table stays small.
-#if defined(RAST_EXEC_CUDA) || defined(RAST_EXEC_HIP)
-  const uint32_t maxBatches = 1024;
-#else
-  const uint32_t maxBatches = uint32_t(Exec().concurrency()) * 8;
-#endif
+  const uint32_t maxBatches = binBatchLimit();
   g.batches = std::max(1u, std::min(maxBatches, (f.triCapacity + 31) / 32));
   g.trisPerBatch = (f.triCapacity + g.batches - 1) / g.batches;
   const uint32_t cells = g.numTiles() * g.batches;
@@ -200,7 +196,7 @@ void rasterBinned(FrameBuffers& f) {
   // The tile's keys live in team scratch; with many samples they outgrow fast
   // on-chip memory (level 0) and go to level 1 (global, still private to the team).
   const size_t scratch = ScratchKeys::shmem_size(size_t(kTilePixels) * f.vp.samples.count);
-  const int level = scratch <= 32 * 1024 ? 0 : 1;
+  const int level = scratch <= kFastScratchBytes ? 0 : 1;
   Kokkos::parallel_for("rast::raster::binned::fine",
                        TeamPolicy(int(g.numTiles()), teamSize).set_scratch_size(level, Kokkos::PerTeam(scratch)),
                        FineRaster{f.tris, f.tileStart, f.work, f.counters, f.vis, g, f.vp.width, f.vp.height,

@@ -21,15 +21,6 @@ size_t FrameBuffers::bytes() const {
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
 
-uint32_t persistentThreads() {
-  const int c = Exec().concurrency();
-#if defined(RAST_EXEC_CUDA) || defined(RAST_EXEC_HIP)
-  return uint32_t(c);  // one resident thread per hardware slot
-#else
-  return uint32_t(c) * 16;  // interleaved slices per core keep the cores balanced
-#endif
-}
-
 SamplePattern samplePattern(int count) {
   // D3D / Vulkan standard multisample positions in 1/16 pixel (y down there;
   // negated for our y-up window space), scaled to 1/256 pixel.
@@ -104,23 +95,13 @@ Renderer::Renderer(const Scene& scene, uint64_t memoryBudget)
 
 RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const {
   if (rs.raster != RasterMethod::Auto) return rs.raster;
-#if defined(RAST_EXEC_CUDA) || defined(RAST_EXEC_HIP)
-  // GPU (measured on an H100, docs/raster-methods.md): the visibility buffer's
-  // bounded blocks win on every scene, by 3-20x over binned, whose per-tile
-  // lists serialise; naive only when no triangle is larger than a block.
-  constexpr bool kGpu = true;
-#else
-  constexpr bool kGpu = false;
-#endif
+  // Thresholds per kind of machine: backends/tuning.h.
   // Without statistics yet (first frame): a method with bounded work per item.
-  if (!autoStats_.valid || autoStats_.tris == 0) return kGpu ? RasterMethod::VisBuffer : RasterMethod::Binned;
+  if (!autoStats_.valid || autoStats_.tris == 0) return kPreferVisBuffer ? RasterMethod::VisBuffer : RasterMethod::Binned;
   // Only small triangles: one work item per triangle walking its box is the
   // cheapest (no expansion into blocks or bins).
-  // CPU: the triangle-size sweep (docs/raster-methods.md) crosses over between
-  // 5 and 16 pixel legs.
-  const uint64_t smallArea = kGpu ? 8 * 8 : 10 * 10;
-  if (autoStats_.maxArea <= smallArea) return RasterMethod::Naive;
-  return kGpu ? RasterMethod::VisBuffer : RasterMethod::Binned;
+  if (autoStats_.maxArea <= kNaiveMaxBoxArea) return RasterMethod::Naive;
+  return kPreferVisBuffer ? RasterMethod::VisBuffer : RasterMethod::Binned;
 }
 
 void Renderer::checkFrameBudget(const RenderSettings& rs) const {

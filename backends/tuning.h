@@ -1,0 +1,49 @@
+// Launch shapes and tuning constants of the pipeline, per kind of machine.
+//
+// core/ takes every "how many threads / how big a team" decision from here.
+// They depend only on rast::kOnDevice (backends/exec_space.h), not on a
+// particular GPU vendor: the values below hold for NVIDIA (32-wide warps) and
+// AMD (64-wide wavefronts) alike, which the static_asserts keep true.
+#pragma once
+
+#include "exec_space.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace rast {
+
+// Widest SIMD group of any supported GPU: AMD's 64-lane wavefront (NVIDIA's
+// warp is 32). Team sizes are multiples of it so no wavefront runs half empty.
+constexpr int kMaxSimdWidth = 64;
+
+// Threads per team for the team kernels (setup count/write, binned fine
+// raster): a full block on a GPU; on a CPU a team is one thread that loops over
+// the team's range. The team kernels never assume a warp size: they use
+// TeamThreadRange, team scans and team_barrier only.
+constexpr int kTeamSize = kOnDevice ? 256 : 1;
+static_assert(!kOnDevice || kTeamSize % kMaxSimdWidth == 0, "GPU teams must be whole 64-lane wavefronts");
+
+// Team scratch (bytes) a kernel may keep at level 0 (on-chip: CUDA shared
+// memory, AMD LDS). 32 KiB fits every supported GPU (48 KiB static shared
+// memory on NVIDIA, 64 KiB LDS on AMD) with room for two teams per
+// multiprocessor; larger buffers go to level 1.
+constexpr size_t kFastScratchBytes = 32 * 1024;
+
+// Binned raster: at most this many triangle batches. On a GPU a fixed count
+// keeps a good part of the machine busy; on a CPU a few batches per core.
+uint32_t binBatchLimit();
+
+// Threads to launch for persistent (grid-stride) loops whose trip count is only
+// known on the device: enough to fill every core or multiprocessor.
+uint32_t persistentThreads();
+
+// RasterMethod::Auto: GPUs (measured on an H100, docs/raster-methods.md)
+// favour the visibility buffer's bounded blocks, by 3-20x over binned whose
+// per-tile lists serialise; CPUs favour binned. Naive wins when no raster
+// triangle's box exceeds this many pixels (GPU: one 8x8 block; CPU: the
+// triangle-size sweep crosses over between 5 and 16 pixel legs).
+constexpr bool kPreferVisBuffer = kOnDevice;
+constexpr uint64_t kNaiveMaxBoxArea = kOnDevice ? 8 * 8 : 10 * 10;
+
+}  // namespace rast
