@@ -34,10 +34,10 @@ std::vector<T> download(const DView<T>& d) {
 // Two quads: a floor (y = 0) and, when `wall`, a back wall (z = -1) meeting it
 // in a concave corner along x.
 Scene cornerScene(bool wall) {
-  std::vector<float3> p = {{-2, 0, -1}, {2, 0, -1}, {2, 0, 2}, {-2, 0, 2}};
+  std::vector<rast::float3> p = {{-2, 0, -1}, {2, 0, -1}, {2, 0, 2}, {-2, 0, 2}};
   std::vector<uint32_t> idx = {0, 2, 1, 0, 3, 2};
   if (wall) {
-    const std::vector<float3> w = {{-2, 0, -1}, {2, 0, -1}, {2, 2, -1}, {-2, 2, -1}};
+    const std::vector<rast::float3> w = {{-2, 0, -1}, {2, 0, -1}, {2, 2, -1}, {-2, 2, -1}};
     p.insert(p.end(), w.begin(), w.end());
     for (uint32_t k : {4u, 5u, 6u, 4u, 6u, 7u}) idx.push_back(k);
   }
@@ -78,16 +78,16 @@ TEST_CASE("bloom: the Gaussian kernel sums to one and an isolated pixel spreads 
     REQUIRE(sum == Approx(1.0).margin(1e-6));
   }
   const int W = 41, H = 37, r = 6, cx = 20, cy = 18;
-  std::vector<float4> img(size_t(W) * H, float4{0, 0, 0, 0});
-  img[size_t(cy) * W + cx] = float4{1.0f, 2.0f, 4.0f, 0.0f};
+  std::vector<rast::float4> img(size_t(W) * H, rast::float4{0, 0, 0, 0});
+  img[size_t(cy) * W + cx] = rast::float4{1.0f, 2.0f, 4.0f, 0.0f};
   const std::vector<float> wts = gaussianWeights(r);
-  DView<float4> d = upload(img), tmp("tmp", img.size());
+  DView<rast::float4> d = upload(img), tmp("tmp", img.size());
   blurSeparable(d, tmp, W, H, upload(wts), r);
-  const std::vector<float4> out = download(d);
+  const std::vector<rast::float4> out = download(d);
   double total = 0.0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      const float4 v = out[size_t(y) * W + x];
+      const rast::float4 v = out[size_t(y) * W + x];
       const int dx = std::abs(x - cx), dy = std::abs(y - cy);
       total += v.x;
       if (dx <= r && dy <= r) {
@@ -105,23 +105,23 @@ TEST_CASE("bloom: the Gaussian kernel sums to one and an isolated pixel spreads 
 TEST_CASE("bloom: the bright pass keeps nothing at or under the threshold", "[post][bloom]") {
   const int W = 64, H = 48;
   const float thr = 0.8f;
-  std::vector<float4> img(size_t(W) * H);
+  std::vector<rast::float4> img(size_t(W) * H);
   uint32_t s = 12345;
   auto rnd = [&s]() { return float((s = s * 1664525u + 1013904223u) >> 8) / 16777216.0f; };
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       // Left half: under the threshold (luminance <= 0.8); right half: bright.
       const float k = x < W / 2 ? 0.8f : 1.5f + 3.0f * rnd();
-      img[size_t(y) * W + x] = float4{k * rnd(), k * rnd(), k * rnd(), 1.0f};
-      if (x >= W / 2) img[size_t(y) * W + x] = float4{k, k, k, 1.0f};
+      img[size_t(y) * W + x] = rast::float4{k * rnd(), k * rnd(), k * rnd(), 1.0f};
+      if (x >= W / 2) img[size_t(y) * W + x] = rast::float4{k, k, k, 1.0f};
     }
-  img[5] = float4{thr, thr, thr, 1.0f};  // exactly at the threshold
-  DView<float4> half("half", size_t(W / 2) * (H / 2));
+  img[5] = rast::float4{thr, thr, thr, 1.0f};  // exactly at the threshold
+  DView<rast::float4> half("half", size_t(W / 2) * (H / 2));
   bloomBrightPass(upload(img), W, H, half, thr);
-  const std::vector<float4> out = download(half);
+  const std::vector<rast::float4> out = download(half);
   for (int y = 0; y < H / 2; ++y)
     for (int x = 0; x < W / 2; ++x) {
-      const float4 v = out[size_t(y) * (W / 2) + x];
+      const rast::float4 v = out[size_t(y) * (W / 2) + x];
       if (x < W / 4) {
         REQUIRE(v.x == 0.0f);
         REQUIRE(v.y == 0.0f);
@@ -130,8 +130,8 @@ TEST_CASE("bloom: the bright pass keeps nothing at or under the threshold", "[po
         REQUIRE(v.x > 0.0f);
       }
     }
-  REQUIRE(brightPart(float4{thr, thr, thr, 1}, thr).x == 0.0f);
-  REQUIRE(brightPart(float4{2.0f * thr, 2.0f * thr, 2.0f * thr, 1}, thr).x == Approx(thr).epsilon(1e-6));
+  REQUIRE(brightPart(rast::float4{thr, thr, thr, 1}, thr).x == 0.0f);
+  REQUIRE(brightPart(rast::float4{2.0f * thr, 2.0f * thr, 2.0f * thr, 1}, thr).x == Approx(thr).epsilon(1e-6));
 }
 
 TEST_CASE("tone maps are monotonic and hit their analytic values", "[post][tonemap]") {
@@ -162,7 +162,7 @@ TEST_CASE("exposure and tone mapping through the film: the background encodes to
   RenderSettings rs;
   rs.width = 8;
   rs.height = 8;
-  rs.background = float4{0.3f, 0.3f, 0.3f, 1.0f};
+  rs.background = rast::float4{0.3f, 0.3f, 0.3f, 1.0f};
   struct Case {
     float ev;
     ToneMap t;

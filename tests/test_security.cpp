@@ -100,7 +100,7 @@ TEST_CASE("legitimate large scenes and frames render within the default budget",
     CHECK(c.size() == size_t(3840) * 2160);
   }
   SECTION("a 4096x4096 texture") {
-    const std::vector<float2> uv = {{0, 0}, {1, 0}, {0.5f, 1}};
+    const std::vector<rast::float2> uv = {{0, 0}, {1, 0}, {0.5f, 1}};
     Scene s = test::trianglesScene({{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}}, {0, 1, 2}, &uv);
     Texture t;
     t.width = t.height = 4096;
@@ -156,11 +156,11 @@ TEST_CASE("setup drops a clipped vertex whose window position would overflow fix
   // x converted to int32 out of range. Such a piece is dropped now.
   const Viewport vp{160, 120, SamplePattern{}};
   RasterTri t;
-  const ClipVert far{float4{1.0f, 0.0f, 0.0f, 1e-30f}, 0.0f, 0.0f};
-  const ClipVert b{float4{-0.5f, -0.5f, 0.0f, 1.0f}, 1.0f, 0.0f}, c{float4{0.5f, 0.5f, 0.0f, 1.0f}, 0.0f, 1.0f};
+  const ClipVert far{rast::float4{1.0f, 0.0f, 0.0f, 1e-30f}, 0.0f, 0.0f};
+  const ClipVert b{rast::float4{-0.5f, -0.5f, 0.0f, 1.0f}, 1.0f, 0.0f}, c{rast::float4{0.5f, 0.5f, 0.0f, 1.0f}, 0.0f, 1.0f};
   CHECK_FALSE(setupTriangle(far, b, c, vp, false, true, 1, t));
-  const ClipVert a{float4{-0.5f, 0.5f, 0.0f, 1.0f}, 0.0f, 0.0f};
+  const ClipVert a{rast::float4{-0.5f, 0.5f, 0.0f, 1.0f}, 0.0f, 0.0f};
   CHECK(setupTriangle(a, b, c, vp, false, true, 1, t));  // an ordinary triangle still sets up
-  CHECK(snappable(float4{0.99f, -0.99f, 0.0f, 1.0f}, vp));
-  CHECK_FALSE(snappable(float4{NAN, 0.0f, 0.0f, 1.0f}, vp));
+  CHECK(snappable(rast::float4{0.99f, -0.99f, 0.0f, 1.0f}, vp));
+  CHECK_FALSE(snappable(rast::float4{NAN, 0.0f, 0.0f, 1.0f}, vp));
 }
