@@ -368,7 +368,7 @@ TEST_CASE("the loader expands LINE_LOOP and LINE_STRIP into segments", "[lines][
   // A .gltf with four vertices (embedded buffer) drawn by one primitive per mode.
   const char* b64 = "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAA";  // (0,0,0) (1,0,0) (1,1,0) (0,1,0)
   for (int mode : {0, 1, 2, 3}) {
-    const std::string path = std::string(RAST_BINARY_DIR) + "/line_mode_" + std::to_string(mode) + ".gltf";
+    const std::string path = scratchPath("line_mode_" + std::to_string(mode) + ".gltf");
     std::ofstream(path) << R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
                         << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"mode":)" << mode << "}]}],"
                         << R"("accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3",)"
@@ -418,7 +418,7 @@ TEST_CASE("exported point and line scenes load back with the same segments, poin
   for (const char* name : {"lines?n=50", "points?n=50"}) {
     Scene s;
     REQUIRE(makeStressScene(name, s));
-    const std::string path = std::string(RAST_BINARY_DIR) + "/export_" + std::string(name).substr(0, 5) + ".glb";
+    const std::string path = scratchPath("export_" + std::string(name).substr(0, 5) + ".glb");
     exportGlb(s, path);
     const Scene back = loadGltf(path);
     std::remove(path.c_str());

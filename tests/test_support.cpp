@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <sys/stat.h>
 
@@ -65,6 +66,10 @@ std::string sharedDir() {
 std::string assimpDir() {
   const std::string d = dirSetting("RAST_ASSIMP_GLTF_DIR", RAST_ASSIMP_GLTF_DIR);
   return fileExists(d) ? d : std::string();
+}
+
+std::string scratchPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("rast_test_" + std::to_string(getpid()) + "_" + name)).string();
 }
 
 void skipTest(const std::string& reason) {

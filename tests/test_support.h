@@ -34,6 +34,9 @@ float3 windowToNdc(double x, double y, double z, int width, int height);
 std::string sharedDir();                       // "" when ../shared is absent
 std::string assimpDir();                       // "" when assimp-testmodels is absent
 bool fileExists(const std::string& p);
+// A path for a scratch file in the system's temporary folder (not the build
+// folder, which a test binary carried to another machine does not have).
+std::string scratchPath(const std::string& name);
 
 // Marks the running test case skipped (ctest's SKIP_REGULAR_EXPRESSION matches
 // "SKIPPED:") and records why for the report after ctest's summary
