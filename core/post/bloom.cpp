@@ -1,6 +1,6 @@
-// Bloom: bright pass to half resolution, separable Gaussian blur there (each
-// team stages its line segment plus the apron in team scratch, so every input
-// is read from memory once per pass), then the blurred light is added back
+// Bloom: bright pass to half resolution, separable Gaussian blur there (rows:
+// each team stages its line segment plus the apron in team scratch; columns: a
+// coalesced gather, see blurColumns), then the blurred light is added back
 // with a bilinear upsample. Gathers only: every output is one thread's fixed
 // sum, the same on every backend.
 #include "bloom.h"
@@ -42,6 +42,24 @@ void blurLines(const char* label, const DView<float4>& in, const DView<float4>& 
   });
 }
 
+// The vertical pass as a plain gather: neighbouring threads take neighbouring
+// columns of one row, so every tap is a coalesced read (the line version above
+// would walk down columns, one cache line per element, on a GPU), and the
+// rows a thread re-reads stay in cache. Same taps in the same order as
+// blurLines, so the result is bit-identical to it.
+void blurColumns(const char* label, const DView<float4>& in, const DView<float4>& out, int w, int h,
+                 const DView<float>& weights, int r) {
+  Kokkos::parallel_for(label, Range(0, int64_t(w) * h), KOKKOS_LAMBDA(const int64_t i) {
+    const int x = int(i % w), y = int(i / w);
+    float4 acc = in(i) * weights(0);
+    for (int d = 1; d <= r; ++d) {
+      const int ya = imax(y - d, 0), yb = imin(y + d, h - 1);  // clamp to edge
+      acc = acc + (in(int64_t(ya) * w + x) + in(int64_t(yb) * w + x)) * weights(d);
+    }
+    out(i) = acc;
+  });
+}
+
 }  // namespace
 
 std::vector<float> gaussianWeights(int radius) {
@@ -71,7 +89,7 @@ void bloomBrightPass(const DView<float4>& full, int w, int h, const DView<float4
 void blurSeparable(const DView<float4>& img, const DView<float4>& tmp, int w, int h, const DView<float>& weights,
                    int radius) {
   blurLines("rast::post::bloom::blur_x", img, tmp, h, w, w, 1, weights, radius);
-  blurLines("rast::post::bloom::blur_y", tmp, img, w, h, 1, w, weights, radius);
+  blurColumns("rast::post::bloom::blur_y", tmp, img, w, h, weights, radius);
 }
 
 void postBloom(PostBuffers& b, const PostView& v, const PostSettings& s) {
