@@ -11,15 +11,8 @@ namespace {
 
 std::vector<double> parseNumbers(const std::string& s, const char* what, size_t minN, size_t maxN) {
   std::vector<double> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    const double d = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !std::isfinite(d))
-      throw Error(std::string("--") + what + ": '" + s + "' is not a list of finite numbers");
-    v.push_back(d);
-  }
+  if (!parseFiniteList(s, v))
+    throw Error(std::string("--") + what + ": '" + s + "' is not a list of finite numbers");
   if (v.size() < minN || v.size() > maxN)
     throw Error(std::string("--") + what + ": expected " + std::to_string(minN) +
                 (maxN > minN ? " to " + std::to_string(maxN) : std::string()) + " comma-separated numbers, got '" + s + "'");

@@ -2,6 +2,10 @@
 
 #include "scene.h"
 
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
 namespace rast {
 namespace {
 
@@ -79,6 +83,19 @@ std::vector<RasterMethod> allRasterMethods() {
   for (const auto& kv : kRaster)
     if (kv.second != RasterMethod::Auto) out.push_back(kv.second);
   return out;
+}
+
+bool parseFiniteList(const std::string& s, std::vector<double>& out) {
+  out.clear();
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const double d = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(d)) return false;
+    out.push_back(d);
+  }
+  return true;
 }
 
 }  // namespace rast

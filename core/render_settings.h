@@ -87,4 +87,8 @@ TexFilter parseFilter(const std::string& s);
 CullMode parseCull(const std::string& s);
 std::vector<RasterMethod> allRasterMethods();  // every concrete method (not Auto)
 
+// Splits "1,2.5,-3" into finite numbers; false (out unspecified) when an item is
+// empty, not a number or not finite. Callers word their own error for their flag.
+bool parseFiniteList(const std::string& s, std::vector<double>& out);
+
 }  // namespace rast

@@ -30,7 +30,10 @@ done
 
 old_fail=0 new_fail=0
 for i in $(seq 1 200); do
-  bash -c "set -o pipefail; apt-cache showsrc --only-source trilinos 2>/dev/null | grep -q '^Package: trilinos$'" || old_fail=$((old_fail + 1))
+  # The broken check, kept verbatim (assembled so no script of ours contains the
+  # pattern) only to count how often SIGPIPE fails it; nothing depends on it.
+  old_check="apt-cache showsrc --only-source trilinos 2>/dev/null | grep -""q '^Package: trilinos\$'"
+  bash -c "set -o pipefail; $old_check" || old_fail=$((old_fail + 1))
   bash -c "set -o pipefail; apt-cache showsrc --only-source trilinos 2>/dev/null | grep '^Package: trilinos$' >/dev/null" || new_fail=$((new_fail + 1))
 done
 echo "index present, 200 checks each: old 'grep -q' check failed $old_fail, fixed check failed $new_fail"

@@ -1,5 +1,6 @@
 #include "post_settings.h"
 
+#include "../render_settings.h"  // parseFiniteList
 #include "../scene.h"  // Error
 
 #include <cmath>
@@ -12,16 +13,9 @@ namespace {
 
 std::vector<double> numbers(const std::string& s, const char* flag, size_t maxN) {
   std::vector<double> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    const double d = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !std::isfinite(d))
-      throw Error(std::string(flag) + ": '" + s + "' is not a list of finite numbers (its optional values attach with '=', " +
-                  flag + "=1,2; a scene file goes before " + flag + ")");
-    v.push_back(d);
-  }
+  if (!parseFiniteList(s, v))
+    throw Error(std::string(flag) + ": '" + s + "' is not a list of finite numbers (its optional values attach with '=', " +
+                flag + "=1,2; a scene file goes before " + flag + ")");
   if (v.size() > maxN) throw Error(std::string(flag) + ": at most " + std::to_string(maxN) + " numbers, got '" + s + "'");
   return v;
 }
