@@ -46,4 +46,10 @@ uint32_t persistentThreads();
 constexpr bool kPreferVisBuffer = kOnDevice;
 constexpr uint64_t kNaiveMaxBoxArea = kOnDevice ? 8 * 8 : 10 * 10;
 
+// Shading: pixels per work item along a row. A CPU thread keeps the last
+// triangle's lookups (draw, indices, vertex attributes, material) across its
+// run, so neighbouring pixels of one triangle pay for them once; a GPU shades
+// one pixel per thread (neighbouring threads then read neighbouring keys).
+constexpr int32_t kShadeRun = kOnDevice ? 1 : 64;
+
 }  // namespace rast

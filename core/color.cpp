@@ -22,7 +22,7 @@ std::vector<float> srgbDecodeTable() {
 }
 
 std::vector<float> srgbEncodeThresholds() {
-  std::vector<float> thr(256);
+  std::vector<float> thr(kSrgbEncodeTableSize);
   thr[0] = -std::numeric_limits<float>::infinity();
   for (int b = 1; b < 256; ++b) {
     // The linear value whose exact sRGB encoding is (b - 0.5) / 255, rounded up
@@ -31,6 +31,13 @@ std::vector<float> srgbEncodeThresholds() {
     float f = float(lin);
     if (double(f) < lin) f = std::nextafter(f, 2.0f);
     thr[b] = f;
+  }
+  // Each bucket's starting byte: the largest b with t(b) <= its lower end.
+  for (uint32_t k = 0; k < kSrgbBuckets; ++k) {
+    const float lower = bitsFloat((kSrgbBucketFirst + k) << kSrgbBucketShift);
+    uint32_t b = 0;
+    while (b < 255 && thr[b + 1] <= lower) ++b;
+    thr[256 + k] = float(b);
   }
   return thr;
 }

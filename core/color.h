@@ -21,16 +21,35 @@ uint32_t srgbEncodeByte(double linear);  // rounded to the nearest byte
 
 // Tables uploaded with the scene (DeviceScene::srgbToLinear / srgbEncode).
 std::vector<float> srgbDecodeTable();      // 256 entries: byte -> linear
-std::vector<float> srgbEncodeThresholds(); // 256 entries: byte b encodes linear values in [t(b), t(b+1))
+// kSrgbEncodeTableSize entries: 256 decision thresholds (byte b encodes
+// linear values in [t(b), t(b+1))), then kSrgbBuckets starting bytes (see
+// encodeSrgb8).
+std::vector<float> srgbEncodeThresholds();
 
-// Linear [0,1] -> sRGB-encoded byte by binary search over the 256 decision
-// thresholds (srgbEncodeThresholds, computed in double on the host): eight
-// comparisons instead of a powf, and the same bytes on every backend.
+// encodeSrgb8's buckets: floats in [2^-13, 1) by exponent and top 6 mantissa
+// bits (13 octaves of 64). Each holds the byte its lower end encodes to; a
+// bucket spans at most two bytes, so a value's byte is its bucket's plus the
+// few thresholds between (the slope of the curve is at most ~170 bytes per
+// unit above 2^-9, and the buckets there are at most 1/128 wide).
+constexpr uint32_t kSrgbBucketShift = 17;                   // keeps exponent + 6 mantissa bits
+constexpr uint32_t kSrgbBucketFirst = (127u - 13u) << 6;    // 2^-13 >> kSrgbBucketShift
+constexpr uint32_t kSrgbBuckets = 13u << 6;                 // up to 1.0 (exclusive)
+constexpr uint32_t kSrgbEncodeTableSize = 256 + kSrgbBuckets;
+constexpr float kSrgbBucketMin = 1.0f / 8192.0f;            // 2^-13
+
+// Linear [0,1] -> sRGB-encoded byte: the largest b with t(b) <= c over the
+// 256 decision thresholds (computed in double on the host), i.e. the same
+// bytes on every backend and as a binary search over them, but found from the
+// bucket of c's float bits and a step or two up (an eight-step binary search
+// cost half of a simple frame's shading on the CPU: dependent, mispredicted
+// branches). Below 2^-13 (and NaN, negatives) the walk starts at byte 0, at or
+// above 1.0 the byte is 255.
 template <class Table>
 KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8(float c, const Table& t) {
+  if (c >= 1.0f) return 255;
   uint32_t lo = 0;  // t(0) is -inf: t(lo) <= c always (NaN encodes as 0)
-  for (uint32_t step = 128; step; step >>= 1)
-    if (t(lo + step) <= c) lo += step;
+  if (c >= kSrgbBucketMin) lo = uint32_t(t(256 + (floatBits(c) >> kSrgbBucketShift) - kSrgbBucketFirst));
+  while (lo < 255 && t(lo + 1) <= c) ++lo;
   return lo;
 }
 

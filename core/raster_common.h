@@ -135,6 +135,7 @@ struct Edges {
   int64_t A[3], B[3], C[3];
   int64_t bias[3];  // 1 on top-left edges, else 0: inside means E_i + bias_i > 0
 
+  KOKKOS_DEFAULTED_FUNCTION Edges() = default;
   KOKKOS_INLINE_FUNCTION explicit Edges(const RasterTri& t) {
     for (int i = 0; i < 3; ++i) {
       const int j = i == 2 ? 0 : i + 1;

@@ -65,6 +65,9 @@ struct RenderSettings {
   Wireframe wireframe = Wireframe::Off;
   float lineWidth = 1.0f;  // pixels, 1..64 (1: diamond-exit rule; wider: parallelogram)
   float pointSize = 1.0f;  // pixels, 1..64 (square points)
+  // Pixels per shading work item along a row (0: the backend's choice,
+  // backends/tuning.h kShadeRun); any value gives the same image. For tests.
+  int shadeRun = 0;
 };
 
 PolygonMode parsePolygon(const std::string& s);

@@ -226,6 +226,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   sp.perspective = rs.perspectiveCorrect ? 1 : 0;
   sp.floatOut = film ? 1 : 0;
   sp.wantGeom = rs.post.ssao ? 1 : 0;
+  sp.shadeRun = rs.shadeRun;
   // Raw modes keep the direct path's background bytes.
   sp.backgroundFilm = isRawShading(rs.shading) ? unpackRaw8(sp.backgroundPacked) : rs.background;
   const glm::dmat4 view = cam.view();

@@ -2,6 +2,15 @@
 // recomputes the barycentrics of the winning raster triangle at the pixel
 // centre, makes them perspective-correct, maps them into the drawn triangle
 // (clipping moved the vertices) and interpolates the attributes from there.
+//
+// What a fragment needs from its triangle (edge functions, draw, indices,
+// vertex attributes, material, texture) is looked up once per triangle
+// (TriFrag), and a work item shades a run of pixels along a row, keeping the
+// last triangle's TriFrag: on a CPU neighbouring pixels mostly belong to the
+// same triangle, so those lookups leave the per-pixel cost (backends/tuning.h
+// kShadeRun; a GPU shades one pixel per thread, where the run is 1). The
+// arithmetic per fragment is the same either way, so the run length changes
+// no bit of the result.
 #include "raster_common.h"
 #include "raster_lines.h"
 #include "stages.h"
@@ -9,6 +18,20 @@
 
 namespace rast {
 namespace {
+
+// The per-triangle part of shading a fragment (see the top of the file).
+struct TriFrag {
+  uint32_t index = ~0u;  // raster index (kLineFlag: a point or line), ~0u: none yet
+  const RasterTri* t = nullptr;
+  Edges e;
+  uint32_t s0 = 0, s1 = 0, s2 = 0;  // source vertices (uv, colour)
+  float3 n[3], pos[3];              // world normal and position of the drawn vertices
+  float2 uv[3];                     // when textured (or in uv mode)
+  float4 col[3];                    // when the scene has vertex colours
+  float4 baseColor{1.0f, 1.0f, 1.0f, 1.0f};
+  int32_t textured = 0;
+  TextureGPU tex{};
+};
 
 struct Shade {
   // scene
@@ -38,6 +61,7 @@ struct Shade {
   SamplePattern samples;
   ShadeParams p;
   LineShade lineShade;  // fragments of points and lines (raster_lines.h)
+  int32_t run, runsPerRow;  // pixels per work item along a row (kShadeRun), work items per row
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
     const float zn = 2.0f * d - 1.0f;
@@ -73,77 +97,112 @@ struct Shade {
     b0 = 1.0f - b1 - b2;
   }
 
-  KOKKOS_INLINE_FUNCTION float2 uvAt(uint32_t s0, uint32_t s1, uint32_t s2, float b0, float b1, float b2) const {
-    return {uvs(s0).x * b0 + uvs(s1).x * b1 + uvs(s2).x * b2, uvs(s0).y * b0 + uvs(s1).y * b1 + uvs(s2).y * b2};
+  KOKKOS_INLINE_FUNCTION static float2 uvAt(const TriFrag& f, float b0, float b1, float b2) {
+    return {f.uv[0].x * b0 + f.uv[1].x * b1 + f.uv[2].x * b2, f.uv[0].y * b0 + f.uv[1].y * b1 + f.uv[2].y * b2};
   }
 
-  // Colour of raster triangle `index` at a sample of pixel (X, Y), for display:
+  // Looks up what shading raster triangle `index` needs, once per triangle.
+  KOKKOS_INLINE_FUNCTION void prepare(uint32_t index, TriFrag& f) const {
+    f.index = index;
+    if (p.mode == ShadingMode::Depth || (index & kLineFlag)) return;
+    f.t = &tris(index);
+    const RasterTri& t = *f.t;
+    f.e = Edges(t);
+    const uint32_t d = findRange(drawTriStart, numDraws, t.prim);
+    const DrawGPU& dr = draws(d);
+    const uint32_t base = 3 * (dr.srcTri + (t.prim - dr.dstTri));
+    const uint32_t i0 = indices(base), i1 = indices(base + 1), i2 = indices(base + 2);
+    f.s0 = dr.srcVertex + i0;
+    f.s1 = dr.srcVertex + i1;
+    f.s2 = dr.srcVertex + i2;
+    f.textured = 0;
+    f.baseColor = float4{1.0f, 1.0f, 1.0f, 1.0f};
+    bool wantUV = p.mode == ShadingMode::TexCoord && hasUV;
+    if (p.mode != ShadingMode::TexCoord) {
+      const uint32_t v[3] = {dr.dstVertex + i0, dr.dstVertex + i1, dr.dstVertex + i2};
+      for (int k = 0; k < 3; ++k) {
+        f.n[k] = worldNormal(v[k]);
+        f.pos[k] = worldPos(v[k]);
+      }
+      if (dr.material >= 0) {
+        const MaterialGPU m = materials(dr.material);
+        f.baseColor = m.baseColor;
+        if (m.texture >= 0 && hasUV) {
+          f.textured = 1;
+          f.tex = textures(m.texture);
+          wantUV = true;
+        }
+      }
+      if (hasColor) {
+        f.col[0] = colors(f.s0);
+        f.col[1] = colors(f.s1);
+        f.col[2] = colors(f.s2);
+      }
+    }
+    if (wantUV) {
+      f.uv[0] = uvs(f.s0);
+      f.uv[1] = uvs(f.s1);
+      f.uv[2] = uvs(f.s2);
+    }
+  }
+
+  // Colour of a fragment of f's triangle at a sample of pixel (X, Y), for display:
   // linear light for the lit and depth modes (sRGB-encoded later), raw values
   // for the diagnostic modes (normals, uv, mip level).
-  KOKKOS_INLINE_FUNCTION float4 shadeFragment(uint32_t index, int32_t X, int32_t Y, int32_t ox, int32_t oy, float depth,
+  KOKKOS_INLINE_FUNCTION float4 shadeFragment(const TriFrag& f, int32_t X, int32_t Y, int32_t ox, int32_t oy, float depth,
                                               float3* normalOutV, float3* posOutV = nullptr) const {
-    const RasterTri& t = tris(index & kLineFlag ? 0 : index);
     if (p.mode == ShadingMode::Depth) {
       const float lo = depthRange().min_val, hi = depthRange().max_val;
       const float g = hi > lo ? 1.0f - (eyeDepth(depth) - lo) / (hi - lo) : 1.0f;
       return float4{g, g, g, 1.0f};
     }
-    if (index & kLineFlag) return lineShade.color(index & ~kLineFlag);
-    const Edges e(t);
+    if (f.index & kLineFlag) return lineShade.color(f.index & ~kLineFlag);
+    const RasterTri& t = *f.t;
+    const Edges& e = f.e;
     float b0, b1, b2;
     bary(t, e, X, Y, ox, oy, b0, b1, b2);
-    const uint32_t d = findRange(drawTriStart, numDraws, t.prim);
-    const DrawGPU& dr = draws(d);
-    const uint32_t base = 3 * (dr.srcTri + (t.prim - dr.dstTri));
-    const uint32_t i0 = indices(base), i1 = indices(base + 1), i2 = indices(base + 2);
-    const uint32_t s0 = dr.srcVertex + i0, s1 = dr.srcVertex + i1, s2 = dr.srcVertex + i2;
 
     if (p.mode == ShadingMode::TexCoord) {
       // Texture coordinates as raw red/green (fractional part); black without any.
       if (!hasUV) return float4{0.0f, 0.0f, 0.0f, 1.0f};
-      const float2 uv = uvAt(s0, s1, s2, b0, b1, b2);
+      const float2 uv = uvAt(f, b0, b1, b2);
       return float4{uv.x - ::floorf(uv.x), uv.y - ::floorf(uv.y), 0.0f, 1.0f};
     }
 
-    const uint32_t v0 = dr.dstVertex + i0, v1 = dr.dstVertex + i1, v2 = dr.dstVertex + i2;
-    const float3 N = normalize(worldNormal(v0) * b0 + worldNormal(v1) * b1 + worldNormal(v2) * b2);
-    const float3 P = worldPos(v0) * b0 + worldPos(v1) * b1 + worldPos(v2) * b2;
+    const float3 N = normalize(f.n[0] * b0 + f.n[1] * b1 + f.n[2] * b2);
+    const float3 P = f.pos[0] * b0 + f.pos[1] * b1 + f.pos[2] * b2;
     if (normalOutV) *normalOutV = N;
     if (posOutV) *posOutV = P;
     if (p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
       return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, 1.0f};
 
-    float4 base4{1.0f, 1.0f, 1.0f, 1.0f};
+    float4 base4 = f.baseColor;
     float lod = 0.0f;
-    if (dr.material >= 0) {
-      const MaterialGPU m = materials(dr.material);
-      base4 = m.baseColor;
-      if (m.texture >= 0 && hasUV) {
-        const float2 uv = uvAt(s0, s1, s2, b0, b1, b2);
-        const TextureGPU tex = textures(m.texture);
-        float4 tc;
-        if (p.filter == TexFilter::Trilinear || p.mode == ShadingMode::MipLevel) {
-          // Analytic derivatives: the same plane one pixel to the right and up.
-          float c0, c1, c2;
-          bary(t, e, X, Y, ox + kSubOne, oy, c0, c1, c2);
-          const float2 ux = uvAt(s0, s1, s2, c0, c1, c2);
-          bary(t, e, X, Y, ox, oy + kSubOne, c0, c1, c2);
-          const float2 uy = uvAt(s0, s1, s2, c0, c1, c2);
-          lod = textureLod(ux.x - uv.x, ux.y - uv.y, uy.x - uv.x, uy.y - uv.y, tex.width, tex.height);
-          tc = sampleTrilinear(tex, texels, lut, uv.x, uv.y, lod);
-        } else if (p.filter == TexFilter::Nearest) {
-          tc = sampleNearest(tex, texels, lut, uv.x, uv.y);
-        } else {
-          tc = sampleBilinear(tex, texels, lut, uv.x, uv.y);
-        }
-        base4 = base4 * tc;
+    if (f.textured) {
+      const float2 uv = uvAt(f, b0, b1, b2);
+      const TextureGPU& tex = f.tex;
+      float4 tc;
+      if (p.filter == TexFilter::Trilinear || p.mode == ShadingMode::MipLevel) {
+        // Analytic derivatives: the same plane one pixel to the right and up.
+        float c0, c1, c2;
+        bary(t, e, X, Y, ox + kSubOne, oy, c0, c1, c2);
+        const float2 ux = uvAt(f, c0, c1, c2);
+        bary(t, e, X, Y, ox, oy + kSubOne, c0, c1, c2);
+        const float2 uy = uvAt(f, c0, c1, c2);
+        lod = textureLod(ux.x - uv.x, ux.y - uv.y, uy.x - uv.x, uy.y - uv.y, tex.width, tex.height);
+        tc = sampleTrilinear(tex, texels, lut, uv.x, uv.y, lod);
+      } else if (p.filter == TexFilter::Nearest) {
+        tc = sampleNearest(tex, texels, lut, uv.x, uv.y);
+      } else {
+        tc = sampleBilinear(tex, texels, lut, uv.x, uv.y);
       }
+      base4 = base4 * tc;
     }
     if (p.mode == ShadingMode::MipLevel) {
       const float l = lod / 8.0f;  // level 0 black, level 8 full red
       return float4{l, 0.0f, 0.0f, 1.0f};
     }
-    if (hasColor) base4 = base4 * (colors(s0) * b0 + colors(s1) * b1 + colors(s2) * b2);
+    if (hasColor) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
 
     const float3 V = normalize(p.eye - P);
     float diffuse = p.ambient, spec = 0.0f;
@@ -182,8 +241,21 @@ struct Shade {
     viewDepth(i) = g.w;
   }
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t i) const {
-    const int32_t X = int32_t(i % width), Y = int32_t(i / width);
+  // One work item: pixels [x0, x1) of row Y, sharing the TriFrag of the last
+  // triangle seen.
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
+    const int32_t Y = int32_t(item / runsPerRow);
+    const int32_t x0 = int32_t(item % runsPerRow) * run;
+    const int32_t x1 = x0 + run < width ? x0 + run : width;
+    TriFrag f;
+    for (int32_t X = x0; X < x1; ++X) shadePixel(int64_t(Y) * width + X, X, Y, f);
+  }
+
+  KOKKOS_INLINE_FUNCTION void use(uint32_t index, TriFrag& f) const {
+    if (index != f.index) prepare(index, f);
+  }
+
+  KOKKOS_INLINE_FUNCTION void shadePixel(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f) const {
     const int S = samples.count;
     const uint64_t key0 = vis(i * S);
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
@@ -194,10 +266,11 @@ struct Shade {
       primOut(i) = idx0 == 0 ? 0 : (idx0 - 1) & kLineFlag ? lineShade.primId((idx0 - 1) & ~kLineFlag) : tris(idx0 - 1).prim + 1;
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
     if (S == 1) {
+      if (idx0) use(idx0 - 1, f);
       if (p.floatOut)
-        hdr(i) = idx0 ? shadeFragment(idx0 - 1, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
+        hdr(i) = idx0 ? shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
       else
-        color(i) = idx0 ? display(shadeFragment(idx0 - 1, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
+        color(i) = idx0 ? display(shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
                         : p.backgroundPacked;
       if (p.wantNormals) normalOut(i) = n0;
       if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
@@ -228,7 +301,8 @@ struct Shade {
           sy += samples.oy[r];
         }
       float3 n{0.0f, 0.0f, 0.0f}, q{0.0f, 0.0f, 0.0f};
-      const float4 c = shadeFragment(idx - 1, X, Y, sx / count, sy / count, bitsFloat(uint32_t(key >> 32)), &n, &q);
+      use(idx - 1, f);
+      const float4 c = shadeFragment(f, X, Y, sx / count, sy / count, bitsFloat(uint32_t(key >> 32)), &n, &q);
       if (s == 0) {
         n0 = n;
         p0 = q;
@@ -280,8 +354,11 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
           f.depth, f.primId, f.normal, f.post.hdr, f.post.geom, f.post.depth, lights, f.depthRange, f.vp.width, f.vp.samples, p,
-          makeLineShade(s, f.lines)};
-  Kokkos::parallel_for("rast::shade", lightweight(Range(0, n)), k);
+          makeLineShade(s, f.lines), 1, 1};
+  // Runs of kShadeRun pixels along a row (the last run of a row may be shorter).
+  k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
+  k.runsPerRow = (f.vp.width + k.run - 1) / k.run;
+  Kokkos::parallel_for("rast::shade", lightweight(Range(0, int64_t(k.runsPerRow) * f.vp.height)), k);
 }
 
 }  // namespace rast

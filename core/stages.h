@@ -56,6 +56,7 @@ struct ShadeParams {
   int32_t floatOut, wantGeom;
   float4 backgroundFilm;  // the background as the film holds it
   mat4f view;             // world -> view space (wantGeom)
+  int32_t shadeRun;       // pixels per shading work item along a row; 0: the backend's kShadeRun
 };
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
