@@ -1,322 +1,16 @@
-// Fragment shading from the visibility buffer: one work item per pixel
-// recomputes the barycentrics of the winning raster triangle at the pixel
-// centre, makes them perspective-correct, maps them into the drawn triangle
-// (clipping moved the vertices) and interpolates the attributes from there.
-//
-// What a fragment needs from its triangle (edge functions, draw, indices,
-// vertex attributes, material, texture) is looked up once per triangle
-// (TriFrag), and a work item shades a run of pixels along a row, keeping the
-// last triangle's TriFrag: on a CPU neighbouring pixels mostly belong to the
-// same triangle, so those lookups leave the per-pixel cost (backends/tuning.h
-// kShadeRun; a GPU shades one pixel per thread, where the run is 1). The
-// arithmetic per fragment is the same either way, so the run length changes
-// no bit of the result.
-#include "raster_common.h"
-#include "raster_lines.h"
-#include "stages.h"
-#include "texture_sampling.h"
+// The shade stage: colour, ids, depth (and the float film's inputs) per pixel
+// from the visibility buffer. The fragment shader is in shade_fragment.h; on
+// the CPU, runs of pixels of one triangle go through shade_spans.h.
+#include "shade_fragment.h"
+#include "shade_spans.h"
+
+#include <type_traits>
 
 namespace rast {
 namespace {
 
-// The per-triangle part of shading a fragment (see the top of the file).
-struct TriFrag {
-  uint32_t index = ~0u;  // raster index (kLineFlag: a point or line), ~0u: none yet
-  const RasterTri* t = nullptr;
-  Edges e;
-  uint32_t s0 = 0, s1 = 0, s2 = 0;  // source vertices (uv, colour)
-  float3 n[3], pos[3];              // world normal and position of the drawn vertices
-  float2 uv[3];                     // when textured (or in uv mode)
-  float4 col[3];                    // when the scene has vertex colours
-  float4 baseColor{1.0f, 1.0f, 1.0f, 1.0f};
-  int32_t textured = 0;
-  TextureGPU tex{};
-};
+using shading::Shade;
 
-struct Shade {
-  // scene
-  DView<DrawGPU> draws;
-  DView<uint32_t> drawTriStart, indices;
-  DView<float2> uvs;
-  DView<float4> colors;
-  DView<MaterialGPU> materials;
-  DView<TextureGPU> textures;
-  DView<uint32_t> texels;
-  DView<float> lut, encode;
-  uint32_t numDraws;
-  int32_t hasUV, hasColor;
-  // frame
-  DView<RasterTri> tris;
-  DView<uint64_t> vis;
-  DView<float3> worldPos, worldNormal;
-  DView<uint32_t> color;
-  DView<float> depthOut;
-  DView<uint32_t> primOut;
-  DView<float3> normalOut;
-  DView<float4> hdr, geom;  // the float film and SSAO's per-pixel geometry, when used
-  DView<float> viewDepth;   // geom's depth alone, for SSAO's taps
-  DView<LightGPU> lights;
-  Kokkos::View<Kokkos::MinMaxScalar<float>, Mem> depthRange;  // eye depth of covered pixels (depth mode)
-  int32_t width;
-  SamplePattern samples;
-  ShadeParams p;
-  LineShade lineShade;  // fragments of points and lines (raster_lines.h)
-  int32_t run, runsPerRow;  // pixels per work item along a row (kShadeRun), work items per row
-
-  KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
-    const float zn = 2.0f * d - 1.0f;
-    return 2.0f * p.znear * p.zfar / ((p.zfar + p.znear) - zn * (p.zfar - p.znear));
-  }
-
-  // Barycentrics in the drawn triangle at a point (ox, oy) (1/256 pixel) from
-  // the centre of pixel (X, Y): screen-space weights from the exact edge values,
-  // made perspective-correct (attributes vary linearly in clip space, i.e. with
-  // weight l_k / w_k), then mapped through the raster triangle's vertices
-  // (clipping moved them). Points outside the triangle extrapolate the plane,
-  // which is what the derivatives need.
-  KOKKOS_INLINE_FUNCTION void bary(const RasterTri& t, const Edges& e, int32_t X, int32_t Y, int32_t ox, int32_t oy,
-                                   float& b0, float& b1, float& b2) const {
-    const float l0 = float(e.atSample(1, e.eval(1, X, Y), ox, oy)) * t.invArea;
-    const float l1 = float(e.atSample(2, e.eval(2, X, Y), ox, oy)) * t.invArea;
-    const float l2 = float(e.atSample(0, e.eval(0, X, Y), ox, oy)) * t.invArea;
-    float w0 = l0, w1 = l1, w2 = l2;
-    if (p.perspective) {
-      w0 *= t.invW[0];
-      w1 *= t.invW[1];
-      w2 *= t.invW[2];
-    }
-    const float sum = w0 + w1 + w2;
-    if (sum != 0.0f && isFinite(sum)) {
-      const float inv = 1.0f / sum;
-      w0 *= inv; w1 *= inv; w2 *= inv;
-    } else {
-      w0 = w1 = w2 = 1.0f / 3.0f;
-    }
-    b1 = w0 * t.bary[0][0] + w1 * t.bary[1][0] + w2 * t.bary[2][0];
-    b2 = w0 * t.bary[0][1] + w1 * t.bary[1][1] + w2 * t.bary[2][1];
-    b0 = 1.0f - b1 - b2;
-  }
-
-  KOKKOS_INLINE_FUNCTION static float2 uvAt(const TriFrag& f, float b0, float b1, float b2) {
-    return {f.uv[0].x * b0 + f.uv[1].x * b1 + f.uv[2].x * b2, f.uv[0].y * b0 + f.uv[1].y * b1 + f.uv[2].y * b2};
-  }
-
-  // Looks up what shading raster triangle `index` needs, once per triangle.
-  KOKKOS_INLINE_FUNCTION void prepare(uint32_t index, TriFrag& f) const {
-    f.index = index;
-    if (p.mode == ShadingMode::Depth || (index & kLineFlag)) return;
-    f.t = &tris(index);
-    const RasterTri& t = *f.t;
-    f.e = Edges(t);
-    const uint32_t d = findRange(drawTriStart, numDraws, t.prim);
-    const DrawGPU& dr = draws(d);
-    const uint32_t base = 3 * (dr.srcTri + (t.prim - dr.dstTri));
-    const uint32_t i0 = indices(base), i1 = indices(base + 1), i2 = indices(base + 2);
-    f.s0 = dr.srcVertex + i0;
-    f.s1 = dr.srcVertex + i1;
-    f.s2 = dr.srcVertex + i2;
-    f.textured = 0;
-    f.baseColor = float4{1.0f, 1.0f, 1.0f, 1.0f};
-    bool wantUV = p.mode == ShadingMode::TexCoord && hasUV;
-    if (p.mode != ShadingMode::TexCoord) {
-      const uint32_t v[3] = {dr.dstVertex + i0, dr.dstVertex + i1, dr.dstVertex + i2};
-      for (int k = 0; k < 3; ++k) {
-        f.n[k] = worldNormal(v[k]);
-        f.pos[k] = worldPos(v[k]);
-      }
-      if (dr.material >= 0) {
-        const MaterialGPU m = materials(dr.material);
-        f.baseColor = m.baseColor;
-        if (m.texture >= 0 && hasUV) {
-          f.textured = 1;
-          f.tex = textures(m.texture);
-          wantUV = true;
-        }
-      }
-      if (hasColor) {
-        f.col[0] = colors(f.s0);
-        f.col[1] = colors(f.s1);
-        f.col[2] = colors(f.s2);
-      }
-    }
-    if (wantUV) {
-      f.uv[0] = uvs(f.s0);
-      f.uv[1] = uvs(f.s1);
-      f.uv[2] = uvs(f.s2);
-    }
-  }
-
-  // Colour of a fragment of f's triangle at a sample of pixel (X, Y), for display:
-  // linear light for the lit and depth modes (sRGB-encoded later), raw values
-  // for the diagnostic modes (normals, uv, mip level).
-  KOKKOS_INLINE_FUNCTION float4 shadeFragment(const TriFrag& f, int32_t X, int32_t Y, int32_t ox, int32_t oy, float depth,
-                                              float3* normalOutV, float3* posOutV = nullptr) const {
-    if (p.mode == ShadingMode::Depth) {
-      const float lo = depthRange().min_val, hi = depthRange().max_val;
-      const float g = hi > lo ? 1.0f - (eyeDepth(depth) - lo) / (hi - lo) : 1.0f;
-      return float4{g, g, g, 1.0f};
-    }
-    if (f.index & kLineFlag) return lineShade.color(f.index & ~kLineFlag);
-    const RasterTri& t = *f.t;
-    const Edges& e = f.e;
-    float b0, b1, b2;
-    bary(t, e, X, Y, ox, oy, b0, b1, b2);
-
-    if (p.mode == ShadingMode::TexCoord) {
-      // Texture coordinates as raw red/green (fractional part); black without any.
-      if (!hasUV) return float4{0.0f, 0.0f, 0.0f, 1.0f};
-      const float2 uv = uvAt(f, b0, b1, b2);
-      return float4{uv.x - ::floorf(uv.x), uv.y - ::floorf(uv.y), 0.0f, 1.0f};
-    }
-
-    const float3 N = normalize(f.n[0] * b0 + f.n[1] * b1 + f.n[2] * b2);
-    const float3 P = f.pos[0] * b0 + f.pos[1] * b1 + f.pos[2] * b2;
-    if (normalOutV) *normalOutV = N;
-    if (posOutV) *posOutV = P;
-    if (p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
-      return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, 1.0f};
-
-    float4 base4 = f.baseColor;
-    float lod = 0.0f;
-    if (f.textured) {
-      const float2 uv = uvAt(f, b0, b1, b2);
-      const TextureGPU& tex = f.tex;
-      float4 tc;
-      if (p.filter == TexFilter::Trilinear || p.mode == ShadingMode::MipLevel) {
-        // Analytic derivatives: the same plane one pixel to the right and up.
-        float c0, c1, c2;
-        bary(t, e, X, Y, ox + kSubOne, oy, c0, c1, c2);
-        const float2 ux = uvAt(f, c0, c1, c2);
-        bary(t, e, X, Y, ox, oy + kSubOne, c0, c1, c2);
-        const float2 uy = uvAt(f, c0, c1, c2);
-        lod = textureLod(ux.x - uv.x, ux.y - uv.y, uy.x - uv.x, uy.y - uv.y, tex.width, tex.height);
-        tc = sampleTrilinear(tex, texels, lut, uv.x, uv.y, lod);
-      } else if (p.filter == TexFilter::Nearest) {
-        tc = sampleNearest(tex, texels, lut, uv.x, uv.y);
-      } else {
-        tc = sampleBilinear(tex, texels, lut, uv.x, uv.y);
-      }
-      base4 = base4 * tc;
-    }
-    if (p.mode == ShadingMode::MipLevel) {
-      const float l = lod / 8.0f;  // level 0 black, level 8 full red
-      return float4{l, 0.0f, 0.0f, 1.0f};
-    }
-    if (hasColor) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
-
-    const float3 V = normalize(p.eye - P);
-    float diffuse = p.ambient, spec = 0.0f;
-    const int nl = p.headlight ? 1 : int(lights.extent(0));
-    for (int k = 0; k < nl; ++k) {
-      const float3 L = p.headlight ? V : lights(k).direction;
-      const float I = p.headlight ? 1.0f - p.ambient : lights(k).intensity;
-      const float ndl = dot(N, L);
-      diffuse += I * (ndl > 0.0f ? ndl : 0.0f);
-      if (p.mode == ShadingMode::BlinnPhong && ndl > 0.0f) {
-        const float ndh = dot(N, normalize(L + V));
-        spec += I * p.specular * (ndh > 0.0f ? ::powf(ndh, p.shininess) : 0.0f);
-      }
-    }
-    const float3 rgb = float3{base4.x, base4.y, base4.z} * diffuse + float3{spec, spec, spec};
-    return float4{rgb.x, rgb.y, rgb.z, base4.w};
-  }
-
-  KOKKOS_INLINE_FUNCTION uint32_t display(float4 c) const {
-    return isRawShading(p.mode) ? packRaw8(c) : packSrgb8(c, encode);
-  }
-
-  // SSAO's input: view-space normal and depth of the surface at the pixel (the
-  // first sample's); zero where nothing was shaded with a normal.
-  KOKKOS_INLINE_FUNCTION float4 viewGeometry(float3 N, float3 P) const {
-    if (!(dot(N, N) > 0.0f)) return float4{0.0f, 0.0f, 0.0f, 0.0f};
-    const float* m = p.view.m;
-    const float3 n = normalize(float3{m[0] * N.x + m[4] * N.y + m[8] * N.z, m[1] * N.x + m[5] * N.y + m[9] * N.z,
-                                      m[2] * N.x + m[6] * N.y + m[10] * N.z});
-    const float d = -(m[2] * P.x + m[6] * P.y + m[10] * P.z + m[14]);
-    return float4{n.x, n.y, n.z, d > 0.0f ? d : 0.0f};
-  }
-
-  KOKKOS_INLINE_FUNCTION void writeGeometry(int64_t i, float4 g) const {
-    geom(i) = g;
-    viewDepth(i) = g.w;
-  }
-
-  // One work item: pixels [x0, x1) of row Y, sharing the TriFrag of the last
-  // triangle seen.
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
-    const int32_t Y = int32_t(item / runsPerRow);
-    const int32_t x0 = int32_t(item % runsPerRow) * run;
-    const int32_t x1 = x0 + run < width ? x0 + run : width;
-    TriFrag f;
-    for (int32_t X = x0; X < x1; ++X) shadePixel(int64_t(Y) * width + X, X, Y, f);
-  }
-
-  KOKKOS_INLINE_FUNCTION void use(uint32_t index, TriFrag& f) const {
-    if (index != f.index) prepare(index, f);
-  }
-
-  KOKKOS_INLINE_FUNCTION void shadePixel(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f) const {
-    const int S = samples.count;
-    const uint64_t key0 = vis(i * S);
-    const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
-    // Outputs: ids and depth of the first sample (as OpenGL resolves integer
-    // and depth buffers: one sample).
-    if (p.wantDepth) depthOut(i) = bitsFloat(uint32_t(key0 >> 32));
-    if (p.wantPrimId)
-      primOut(i) = idx0 == 0 ? 0 : (idx0 - 1) & kLineFlag ? lineShade.primId((idx0 - 1) & ~kLineFlag) : tris(idx0 - 1).prim + 1;
-    float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
-    if (S == 1) {
-      if (idx0) use(idx0 - 1, f);
-      if (p.floatOut)
-        hdr(i) = idx0 ? shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
-      else
-        color(i) = idx0 ? display(shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
-                        : p.backgroundPacked;
-      if (p.wantNormals) normalOut(i) = n0;
-      if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
-      return;
-    }
-    // Multisampling: shade once per distinct triangle among the samples, at the
-    // centroid of the samples it covers (the pixel centre when it covers them
-    // all; never outside the triangle, so attributes are not extrapolated),
-    // weight by the samples it covers, and resolve in linear light.
-    const bool raw = isRawShading(p.mode);
-    float4 acc{0.0f, 0.0f, 0.0f, 0.0f};
-    int background = 0;
-    for (int s = 0; s < S; ++s) {
-      const uint64_t key = vis(i * S + s);
-      const uint32_t idx = uint32_t(key & 0xffffffffu);
-      if (idx == 0) {
-        ++background;
-        continue;
-      }
-      bool seen = false;
-      for (int r = 0; r < s; ++r) seen |= uint32_t(vis(i * S + r) & 0xffffffffu) == idx;
-      if (seen) continue;
-      int count = 1, sx = samples.ox[s], sy = samples.oy[s];
-      for (int r = s + 1; r < S; ++r)
-        if (uint32_t(vis(i * S + r) & 0xffffffffu) == idx) {
-          ++count;
-          sx += samples.ox[r];
-          sy += samples.oy[r];
-        }
-      float3 n{0.0f, 0.0f, 0.0f}, q{0.0f, 0.0f, 0.0f};
-      use(idx - 1, f);
-      const float4 c = shadeFragment(f, X, Y, sx / count, sy / count, bitsFloat(uint32_t(key >> 32)), &n, &q);
-      if (s == 0) {
-        n0 = n;
-        p0 = q;
-      }
-      acc = acc + c * float(count);
-    }
-    const float4 bg = raw ? float4{0.0f, 0.0f, 0.0f, 1.0f} : p.background;
-    acc = (acc + bg * float(background)) * (1.0f / float(S));
-    if (p.floatOut) hdr(i) = acc;
-    else color(i) = display(acc);
-    if (p.wantNormals) normalOut(i) = n0;
-    if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
-  }
-};
 
 // Eye-space depth range of the covered pixels, reduced on the device (depth mode).
 struct DepthRange {
@@ -332,6 +26,20 @@ struct DepthRange {
     v.max_val = ze > v.max_val ? ze : v.max_val;
   }
 };
+
+// The span kernel (shade_spans.h) is compiled for the host backends only: a
+// GPU shades one pixel per thread and never launches it.
+template <bool kWithSpans>
+void launchShade(const Shade& k, int samples, const Range& items) {
+  if constexpr (kWithSpans) {
+    using Spans = std::conditional_t<kWithSpans, shading::ShadeSpans, Shade>;  // dependent: not built for GPUs
+    if (Spans::usable(k.p, samples, k.run)) {
+      Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{k});
+      return;
+    }
+  }
+  Kokkos::parallel_for("rast::shade", lightweight(items), k);
+}
 
 }  // namespace
 
@@ -358,7 +66,8 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   // Runs of kShadeRun pixels along a row (the last run of a row may be shorter).
   k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
   k.runsPerRow = (f.vp.width + k.run - 1) / k.run;
-  Kokkos::parallel_for("rast::shade", lightweight(Range(0, int64_t(k.runsPerRow) * f.vp.height)), k);
+  const Range items(0, int64_t(k.runsPerRow) * f.vp.height);
+  launchShade<!kOnDevice>(k, f.vp.samples.count, items);
 }
 
 }  // namespace rast

@@ -1,0 +1,176 @@
+// The CPU's shade kernel for Lambert shading with one sample per pixel: a work
+// item takes a run of pixels along a row (kShadeRun), cuts it into spans of
+// one triangle, and shades each span a stage at a time over small arrays
+// (barycentrics, normals, positions, lighting for every pixel of the span,
+// then texturing, then packing), so that the compiler turns the arithmetic
+// stages into SIMD loops over pixels instead of one scalar fragment at a time.
+//
+// Every value is computed by the same operations in the same order as
+// Shade::shadeFragment (edge values exactly in integers, then the same float
+// expressions, no contraction), so the image is bit-identical to the per-pixel
+// kernel's; only the order in which pixels are visited differs. Pixels of
+// points and lines, and frames this kernel does not cover (other modes,
+// trilinear filtering, MSAA, normals or SSAO outputs), use the per-pixel
+// shader (see usable()).
+#pragma once
+
+#include "shade_fragment.h"
+
+namespace rast {
+namespace shading {
+
+constexpr int kMaxSpanRun = 64;  // longest run a ShadeSpans work item takes
+
+struct ShadeSpans : Shade {
+  // Whether this kernel covers a frame of these settings.
+  static bool usable(const ShadeParams& p, int samples, int run) {
+    return run > 1 && run <= kMaxSpanRun && samples == 1 && p.mode == ShadingMode::Lambert &&
+           p.filter != TexFilter::Trilinear && !p.wantNormals && !p.wantGeom;
+  }
+
+  KOKKOS_INLINE_FUNCTION void put(int64_t i, float4 c) const {
+    if (p.floatOut) hdr(i) = c;
+    else color(i) = display(c);
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
+    const int32_t Y = int32_t(item / runsPerRow);
+    const int32_t x0 = int32_t(item % runsPerRow) * run;
+    const int32_t n = (x0 + run < width ? x0 + run : width) - x0;
+    const int64_t row = int64_t(Y) * width + x0;
+    uint32_t idx[kMaxSpanRun];
+    for (int32_t j = 0; j < n; ++j) {
+      const uint64_t key = vis(row + j);
+      idx[j] = uint32_t(key & 0xffffffffu);
+      if (p.wantDepth) depthOut(row + j) = bitsFloat(uint32_t(key >> 32));
+      if (p.wantPrimId) {
+        const uint32_t id = idx[j];
+        primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
+      }
+    }
+    TriFrag f;
+    for (int32_t j = 0; j < n;) {
+      const uint32_t id = idx[j];
+      int32_t k = j + 1;
+      while (k < n && idx[k] == id) ++k;
+      if (id == 0) {
+        for (int32_t m = j; m < k; ++m) {
+          if (p.floatOut) hdr(row + m) = p.backgroundFilm;
+          else color(row + m) = p.backgroundPacked;
+        }
+      } else {
+        use(id - 1, f);
+        if ((id - 1) & kLineFlag) {
+          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(f, x0 + m, Y, 0, 0, 0.0f, nullptr));
+        } else {
+          span(f, row + j, x0 + j, Y, k - j);
+        }
+      }
+      j = k;
+    }
+  }
+
+  // Pixels [xa, xa + m) of row Y, all of f's triangle (a raster triangle).
+  KOKKOS_INLINE_FUNCTION void span(const TriFrag& f, int64_t out, int32_t xa, int32_t Y, int32_t m) const {
+    const RasterTri& t = *f.t;
+    const Edges& e = f.e;
+    float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
+    float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
+    float diffuse[kMaxSpanRun];
+    float4 base[kMaxSpanRun];
+    // Screen-space weights from the exact edge values (as Shade::bary: l0 from
+    // edge 1, l1 from edge 2, l2 from edge 0), stepped in integers.
+    {
+      int64_t e1 = e.eval(1, xa, Y), e2 = e.eval(2, xa, Y), e0 = e.eval(0, xa, Y);
+      for (int32_t j = 0; j < m; ++j) {
+        b0[j] = float(e1) * t.invArea;
+        b1[j] = float(e2) * t.invArea;
+        b2[j] = float(e0) * t.invArea;
+        e1 += e.A[1];
+        e2 += e.A[2];
+        e0 += e.A[0];
+      }
+    }
+    // Perspective-correct weights in the drawn triangle, the normal, the
+    // position and the lighting of every pixel (Shade::bary, shadeFragment).
+    const float iw0 = p.perspective ? t.invW[0] : 1.0f, iw1 = p.perspective ? t.invW[1] : 1.0f,
+                iw2 = p.perspective ? t.invW[2] : 1.0f;
+    const float t00 = t.bary[0][0], t10 = t.bary[1][0], t20 = t.bary[2][0];
+    const float t01 = t.bary[0][1], t11 = t.bary[1][1], t21 = t.bary[2][1];
+    const float3 n0 = f.n[0], n1 = f.n[1], n2 = f.n[2], q0 = f.pos[0], q1 = f.pos[1], q2 = f.pos[2];
+    const float3 eye = p.eye;
+    const float ambient = p.ambient, third = 1.0f / 3.0f;
+    const int headlight = p.headlight;
+    const float headI = headlight ? 1.0f - ambient : 0.0f;
+    for (int32_t j = 0; j < m; ++j) {
+      float w0 = b0[j] * iw0, w1 = b1[j] * iw1, w2 = b2[j] * iw2;
+      const float sum = w0 + w1 + w2;
+      const bool ok = (sum != 0.0f) & (sum - sum == 0.0f);  // nonzero and finite (isFinite); no branch
+      const float inv = 1.0f / sum;
+      w0 = ok ? w0 * inv : third;
+      w1 = ok ? w1 * inv : third;
+      w2 = ok ? w2 * inv : third;
+      const float c1 = w0 * t00 + w1 * t10 + w2 * t20;
+      const float c2 = w0 * t01 + w1 * t11 + w2 * t21;
+      const float c0 = 1.0f - c1 - c2;
+      b0[j] = c0;
+      b1[j] = c1;
+      b2[j] = c2;
+      // normalize() of the interpolated normal
+      float x = n0.x * c0 + n1.x * c1 + n2.x * c2, y = n0.y * c0 + n1.y * c1 + n2.y * c2,
+            z = n0.z * c0 + n1.z * c1 + n2.z * c2;
+      float l2 = x * x + y * y + z * z;
+      float s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
+      x = l2 > 0.0f ? x * s : 0.0f;
+      y = l2 > 0.0f ? y * s : 0.0f;
+      z = l2 > 0.0f ? z * s : 0.0f;
+      nx[j] = x;
+      ny[j] = y;
+      nz[j] = z;
+      const float Px = q0.x * c0 + q1.x * c1 + q2.x * c2, Py = q0.y * c0 + q1.y * c1 + q2.y * c2,
+                  Pz = q0.z * c0 + q1.z * c1 + q2.z * c2;
+      // The headlight: L = V = normalize(eye - P), intensity 1 - ambient.
+      float vx = eye.x - Px, vy = eye.y - Py, vz = eye.z - Pz;
+      l2 = vx * vx + vy * vy + vz * vz;
+      s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
+      vx = l2 > 0.0f ? vx * s : 0.0f;
+      vy = l2 > 0.0f ? vy * s : 0.0f;
+      vz = l2 > 0.0f ? vz * s : 0.0f;
+      const float ndl = x * vx + y * vy + z * vz;
+      diffuse[j] = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);  // exactly ambient without the headlight
+    }
+    if (!headlight) {
+      const int nl = int(lights.extent(0));
+      for (int k = 0; k < nl; ++k) {
+        const float3 L = lights(k).direction;
+        const float I = lights(k).intensity;
+        for (int32_t j = 0; j < m; ++j) {
+          const float ndl = nx[j] * L.x + ny[j] * L.y + nz[j] * L.z;
+          diffuse[j] += I * (ndl > 0.0f ? ndl : 0.0f);
+        }
+      }
+    }
+    // Base colour: material, texture (scalar: texel fetches), vertex colour.
+    for (int32_t j = 0; j < m; ++j) base[j] = f.baseColor;
+    if (f.textured) {
+      for (int32_t j = 0; j < m; ++j) {
+        const float2 uv = uvAt(f, b0[j], b1[j], b2[j]);
+        const float4 tc = p.filter == TexFilter::Nearest ? sampleNearest(f.tex, texels, lut, uv.x, uv.y)
+                                                         : sampleBilinear(f.tex, texels, lut, uv.x, uv.y);
+        base[j] = base[j] * tc;
+      }
+    }
+    if (hasColor) {
+      for (int32_t j = 0; j < m; ++j)
+        base[j] = base[j] * (f.col[0] * b0[j] + f.col[1] * b1[j] + f.col[2] * b2[j]);
+    }
+    for (int32_t j = 0; j < m; ++j) {
+      const float d = diffuse[j];
+      // rgb * diffuse + spec (0 in Lambert), as shadeFragment adds it
+      put(out + j, float4{base[j].x * d + 0.0f, base[j].y * d + 0.0f, base[j].z * d + 0.0f, base[j].w});
+    }
+  }
+};
+
+}  // namespace shading
+}  // namespace rast
