@@ -32,12 +32,13 @@ std::vector<float> srgbEncodeThresholds() {
     if (double(f) < lin) f = std::nextafter(f, 2.0f);
     thr[b] = f;
   }
+  thr[256] = std::numeric_limits<float>::infinity();  // t(b + 1) for b = 255
   // Each bucket's starting byte: the largest b with t(b) <= its lower end.
   for (uint32_t k = 0; k < kSrgbBuckets; ++k) {
     const float lower = bitsFloat((kSrgbBucketFirst + k) << kSrgbBucketShift);
     uint32_t b = 0;
     while (b < 255 && thr[b + 1] <= lower) ++b;
-    thr[256 + k] = float(b);
+    thr[kSrgbBucketBase + k] = float(b);
   }
   return thr;
 }

@@ -22,35 +22,35 @@ uint32_t srgbEncodeByte(double linear);  // rounded to the nearest byte
 // Tables uploaded with the scene (DeviceScene::srgbToLinear / srgbEncode).
 std::vector<float> srgbDecodeTable();      // 256 entries: byte -> linear
 // kSrgbEncodeTableSize entries: 256 decision thresholds (byte b encodes
-// linear values in [t(b), t(b+1))), then kSrgbBuckets starting bytes (see
-// encodeSrgb8).
+// linear values in [t(b), t(b+1))), +inf at 256, then kSrgbBuckets starting
+// bytes (see encodeSrgb8).
 std::vector<float> srgbEncodeThresholds();
 
-// encodeSrgb8's buckets: floats in [2^-13, 1) by exponent and top 6 mantissa
-// bits (13 octaves of 64). Each holds the byte its lower end encodes to; a
-// bucket spans at most two bytes, so a value's byte is its bucket's plus the
-// few thresholds between (the slope of the curve is at most ~170 bytes per
-// unit above 2^-9, and the buckets there are at most 1/128 wide).
-constexpr uint32_t kSrgbBucketShift = 17;                   // keeps exponent + 6 mantissa bits
-constexpr uint32_t kSrgbBucketFirst = (127u - 13u) << 6;    // 2^-13 >> kSrgbBucketShift
-constexpr uint32_t kSrgbBuckets = 13u << 6;                 // up to 1.0 (exclusive)
-constexpr uint32_t kSrgbEncodeTableSize = 256 + kSrgbBuckets;
+// encodeSrgb8's buckets: floats in [2^-13, 1) by exponent and top 7 mantissa
+// bits (13 octaves of 128). Each holds the byte its lower end encodes to. A
+// bucket is narrower than the gap between two thresholds there (width/gap is
+// about 0.875 c^0.417 < 1), so it holds at most one: a value's byte is its
+// bucket's, or one more. Below 2^-13 every value encodes to 0 (t(1) is
+// about 1.5e-4).
+constexpr uint32_t kSrgbBucketShift = 16;                   // keeps exponent + 7 mantissa bits
+constexpr uint32_t kSrgbBucketFirst = (127u - 13u) << 7;    // 2^-13 >> kSrgbBucketShift
+constexpr uint32_t kSrgbBuckets = 13u << 7;                 // up to 1.0 (exclusive)
+constexpr uint32_t kSrgbBucketBase = 257;                   // first bucket entry in the table
+constexpr uint32_t kSrgbEncodeTableSize = kSrgbBucketBase + kSrgbBuckets;
 constexpr float kSrgbBucketMin = 1.0f / 8192.0f;            // 2^-13
 
 // Linear [0,1] -> sRGB-encoded byte: the largest b with t(b) <= c over the
 // 256 decision thresholds (computed in double on the host), i.e. the same
-// bytes on every backend and as a binary search over them, but found from the
-// bucket of c's float bits and a step or two up (an eight-step binary search
-// cost half of a simple frame's shading on the CPU: dependent, mispredicted
-// branches). Below 2^-13 (and NaN, negatives) the walk starts at byte 0, at or
-// above 1.0 the byte is 255.
+// bytes on every backend and as a binary search over them, found from the
+// bucket of c's float bits and one comparison (an eight-step binary search,
+// dependent and mispredicted, cost half of a simple frame's shading on the
+// CPU). NaN and negatives encode as 0, values from 1.0 up as 255.
 template <class Table>
 KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8(float c, const Table& t) {
+  if (!(c >= kSrgbBucketMin)) return 0;
   if (c >= 1.0f) return 255;
-  uint32_t lo = 0;  // t(0) is -inf: t(lo) <= c always (NaN encodes as 0)
-  if (c >= kSrgbBucketMin) lo = uint32_t(t(256 + (floatBits(c) >> kSrgbBucketShift) - kSrgbBucketFirst));
-  while (lo < 255 && t(lo + 1) <= c) ++lo;
-  return lo;
+  const uint32_t b = uint32_t(t(kSrgbBucketBase + (floatBits(c) >> kSrgbBucketShift) - kSrgbBucketFirst));
+  return b + (t(b + 1) <= c ? 1u : 0u);
 }
 
 // Linear [0,1] -> sRGB-encoded byte, with the exact piecewise curve in float
