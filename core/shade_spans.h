@@ -79,16 +79,18 @@ struct ShadeSpans : Shade {
     float diffuse[kMaxSpanRun];
     float4 base[kMaxSpanRun];
     // Screen-space weights from the exact edge values (as Shade::bary: l0 from
-    // edge 1, l1 from edge 2, l2 from edge 0), stepped in integers.
+    // edge 1, l1 from edge 2, l2 from edge 0). The edge values step in double,
+    // exactly (integers below 2^53), and float(double(e)) rounds as float(e)
+    // does, so the weights are bit-identical; unlike int64 -> float, double ->
+    // float conversion vectorizes.
     {
-      int64_t e1 = e.eval(1, xa, Y), e2 = e.eval(2, xa, Y), e0 = e.eval(0, xa, Y);
+      const double s1 = double(e.eval(1, xa, Y)), s2 = double(e.eval(2, xa, Y)), s0 = double(e.eval(0, xa, Y));
+      const double a1 = double(e.A[1]), a2 = double(e.A[2]), a0 = double(e.A[0]);
+      const float ia = t.invArea;
       for (int32_t j = 0; j < m; ++j) {
-        b0[j] = float(e1) * t.invArea;
-        b1[j] = float(e2) * t.invArea;
-        b2[j] = float(e0) * t.invArea;
-        e1 += e.A[1];
-        e2 += e.A[2];
-        e0 += e.A[0];
+        b0[j] = float(s1 + a1 * double(j)) * ia;
+        b1[j] = float(s2 + a2 * double(j)) * ia;
+        b2[j] = float(s0 + a0 * double(j)) * ia;
       }
     }
     // Perspective-correct weights in the drawn triangle, the normal, the

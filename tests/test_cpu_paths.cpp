@@ -81,12 +81,13 @@ TEST_CASE("sRGB bucket encoder equals the binary search over its thresholds", "[
   for (uint32_t bits = 0; bits <= floatBits(1.25f); bits += 17) check(bitsFloat(bits));
   for (int b = 1; b < 256; ++b)
     for (int d = -3; d <= 3; ++d) check(bitsFloat(uint32_t(int64_t(floatBits(t[b])) + d)));
-  for (uint32_t k = 0; k <= kSrgbBuckets; ++k)
+  for (uint32_t k = 0; k <= kSrgbBuckets + 1; ++k)
     for (int d = -2; d <= 2; ++d) check(bitsFloat(uint32_t(int64_t((kSrgbBucketFirst + k) << kSrgbBucketShift) + d)));
-  for (float c : {-0.0f, -1e-30f, -1.0f, 1.0f, 2.0f, 1e30f, std::numeric_limits<float>::infinity(),
+  for (float c : {0.0f, -0.0f, -1e-30f, -1.0f, 1.0f, 2.0f, 1e30f, std::numeric_limits<float>::max(), std::numeric_limits<float>::infinity(),
                   -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::denorm_min()})
     check(c);
   CHECK(encodeSrgb8(std::nanf(""), table) == 0);
+  CHECK(encodeSrgb8(-std::nanf(""), table) == 0);
   CHECK(checked > 60000000);
   CHECK(wrong == 0);
 }
