@@ -53,6 +53,17 @@ KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8(float c, const Table& t) {
   return b + (t(b + 1) <= c ? 1u : 0u);
 }
 
+// encodeSrgb8 without branches (selects only), for loops the compiler
+// vectorizes with gathers (AVX2): the same bytes for every input.
+KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8Flat(float c, const float* t) {
+  const int32_t k = int32_t(floatBits(c) >> kSrgbBucketShift) - int32_t(kSrgbBucketFirst);
+  const int32_t k1 = k > 0 ? k : 0;  // any bucket for values out of range: the result is selected away
+  const int32_t k2 = k1 < int32_t(kSrgbBuckets) - 1 ? k1 : int32_t(kSrgbBuckets) - 1;
+  const int32_t b = int32_t(t[kSrgbBucketBase + k2]);
+  const int32_t r = b + (t[b + 1] <= c ? 1 : 0);  // t(b + 1) is at most t(256) = +inf
+  return uint32_t(c >= 1.0f ? 255 : (c >= kSrgbBucketMin ? r : 0));  // NaN, negatives, -0: 0
+}
+
 // Linear [0,1] -> sRGB-encoded byte, with the exact piecewise curve in float
 // (host values such as the background; kernels use the table).
 KOKKOS_INLINE_FUNCTION uint32_t linearToSrgb8(float c) {

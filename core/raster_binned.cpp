@@ -11,6 +11,7 @@
 // (tile, batch) counts in tile-major order lays the segments out so that each
 // tile's list is the concatenation of its batches in order. (cudaraster's
 // per-CTA bin queues, merged in order by its coarse stage, work the same way.)
+#include "cpu_clones.h"
 #include "raster_common.h"
 #include "stages.h"
 
@@ -159,6 +160,28 @@ struct FineRaster {
   }
 };
 
+// Depth-tests one row span of a triangle in a host tile (FineRasterHost):
+// depthAt over the span, vectorized, and the tile's depth bits and ids kept
+// where it is nearer.
+KOKKOS_INLINE_FUNCTION void depthSpan(int32_t m, double s0, double s2, double a0, double a2, float z0, float dz1, float dz2,
+                               float ia, uint32_t id, uint32_t* __restrict__ zr, uint32_t* __restrict__ ir) {
+  for (int32_t j = 0; j < m; ++j) {
+    // depthAt(t, e0, e1, e2): l1 from edge 2, l2 from edge 0
+    const float l1 = float(s2 + a2 * double(j)) * ia, l2 = float(s0 + a0 * double(j)) * ia;
+    const uint32_t bits = floatBits(clamp01(z0 + (l1 * dz1 + l2 * dz2)));
+    const bool win = bits < zr[j];
+    zr[j] = win ? bits : zr[j];
+    ir[j] = win ? id : ir[j];
+  }
+}
+
+// The same, built also for AVX2; worth its indirect call on longer spans.
+RAST_CPU_CLONES void depthSpanWide(int32_t m, double s0, double s2, double a0, double a2, float z0, float dz1,
+                                   float dz2, float ia, uint32_t id, uint32_t* __restrict__ zr,
+                                   uint32_t* __restrict__ ir) {
+  depthSpan(m, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
+}
+
 // The fine stage on a host backend with one sample per pixel: one thread per
 // tile, the tile's depth bits and ids in two small arrays (on the stack), and
 // each triangle walked row by row over exactly the pixels it covers (the
@@ -232,15 +255,8 @@ struct FineRasterHost {
         const double s0 = double(c0 + e.A[0] * lo), s2 = double(c2 + e.A[2] * lo);
         uint32_t* zr = zb + (y - ty0) * kTileSize + (x0 - tx0) + lo;
         uint32_t* ir = ib + (y - ty0) * kTileSize + (x0 - tx0) + lo;
-        const int32_t m = hi - lo + 1;
-        for (int32_t j = 0; j < m; ++j) {
-          // depthAt(t, e0, e1, e2): l1 from edge 2, l2 from edge 0
-          const float l1 = float(s2 + a2 * double(j)) * ia, l2 = float(s0 + a0 * double(j)) * ia;
-          const uint32_t bits = floatBits(clamp01(z0 + (l1 * dz1 + l2 * dz2)));
-          const bool win = bits < zr[j];
-          zr[j] = win ? bits : zr[j];
-          ir[j] = win ? id : ir[j];
-        }
+        if (hi - lo + 1 >= kWideSpan) depthSpanWide(hi - lo + 1, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
+        else depthSpan(hi - lo + 1, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
       }
     }
     for (int r = 0; r < kTileSize; ++r) {

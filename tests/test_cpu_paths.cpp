@@ -71,8 +71,8 @@ TEST_CASE("sRGB bucket encoder equals the binary search over its thresholds", "[
   size_t checked = 0, wrong = 0;
   auto check = [&](float c) {
     ++checked;
-    const uint32_t want = binarySearchEncode(c, t), got = encodeSrgb8(c, table);
-    if (want != got) {
+    const uint32_t want = binarySearchEncode(c, t), got = encodeSrgb8(c, table), flat = encodeSrgb8Flat(c, t.data());
+    if (want != got || want != flat) {
       if (++wrong <= 5) UNSCOPED_INFO("c = " << c << " (bits " << floatBits(c) << "): " << got << " != " << want);
     }
   };
@@ -88,6 +88,8 @@ TEST_CASE("sRGB bucket encoder equals the binary search over its thresholds", "[
     check(c);
   CHECK(encodeSrgb8(std::nanf(""), table) == 0);
   CHECK(encodeSrgb8(-std::nanf(""), table) == 0);
+  CHECK(encodeSrgb8Flat(std::nanf(""), t.data()) == 0);
+  CHECK(encodeSrgb8Flat(-std::nanf(""), t.data()) == 0);
   CHECK(checked > 60000000);
   CHECK(wrong == 0);
 }
