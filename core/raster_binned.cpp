@@ -11,8 +11,7 @@
 // (tile, batch) counts in tile-major order lays the segments out so that each
 // tile's list is the concatenation of its batches in order. (cudaraster's
 // per-CTA bin queues, merged in order by its coarse stage, work the same way.)
-#include "cpu_clones.h"
-#include "raster_common.h"
+#include "raster_binned.h"
 #include "stages.h"
 
 #include <algorithm>
@@ -20,17 +19,6 @@
 
 namespace rast {
 namespace {
-
-constexpr int kTileShift = 5;  // 32x32-pixel tiles
-constexpr int kTileSize = 1 << kTileShift;
-constexpr int kTilePixels = kTileSize * kTileSize;
-
-struct BinGeometry {
-  int32_t tilesX, tilesY;
-  uint32_t batches, trisPerBatch, triSlots;
-
-  KOKKOS_INLINE_FUNCTION uint32_t numTiles() const { return uint32_t(tilesX) * uint32_t(tilesY); }
-};
 
 // Counts, per (tile, batch), the triangles of the batch whose bounding box
 // touches the tile.
@@ -160,125 +148,19 @@ struct FineRaster {
   }
 };
 
-// Depth-tests one row span of a triangle in a host tile (FineRasterHost):
-// depthAt over the span, vectorized, and the tile's depth bits and ids kept
-// where it is nearer.
-KOKKOS_INLINE_FUNCTION void depthSpan(int32_t m, double s0, double s2, double a0, double a2, float z0, float dz1, float dz2,
-                               float ia, uint32_t id, uint32_t* __restrict__ zr, uint32_t* __restrict__ ir) {
-  for (int32_t j = 0; j < m; ++j) {
-    // depthAt(t, e0, e1, e2): l1 from edge 2, l2 from edge 0
-    const float l1 = float(s2 + a2 * double(j)) * ia, l2 = float(s0 + a0 * double(j)) * ia;
-    const uint32_t bits = floatBits(clamp01(z0 + (l1 * dz1 + l2 * dz2)));
-    const bool win = bits < zr[j];
-    zr[j] = win ? bits : zr[j];
-    ir[j] = win ? id : ir[j];
-  }
-}
-
-// The same, built also for AVX2; worth its indirect call on longer spans.
-RAST_CPU_CLONES void depthSpanWide(int32_t m, double s0, double s2, double a0, double a2, float z0, float dz1,
-                                   float dz2, float ia, uint32_t id, uint32_t* __restrict__ zr,
-                                   uint32_t* __restrict__ ir) {
-  depthSpan(m, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
-}
-
-// The fine stage on a host backend with one sample per pixel: one thread per
-// tile, the tile's depth bits and ids in two small arrays (on the stack), and
-// each triangle walked row by row over exactly the pixels it covers (the
-// span where all three edge functions pass, found by integer division, so no
-// per-pixel inside test), with the depth interpolated over the span in a
-// loop the compiler vectorizes. Bit-identical to FineRaster:
-// * edge values step exactly in double (integers below 2^53), and
-//   float(double(e)) rounds like float(e), so depthAt gets the same bits;
-// * the tile's list is in primitive order, so every stored id is smaller than
-//   the incoming one and "key < stored key" reduces to "depth bits < stored
-//   depth bits" (equal depths keep the earlier triangle, as visKey's minimum).
-struct FineRasterHost {
-  DView<RasterTri> tris;
-  DView<uint32_t> tileStart, list, counters;
-  DView<uint64_t> vis;
-  BinGeometry g;
-  int32_t width, height;
-  uint32_t capacity;
-
-  // Offsets [lo, hi] from x0 (at most n - 1) where E(x0 + d) + bias > 0, E
-  // stepping by A per pixel; lo > hi when none.
-  KOKKOS_INLINE_FUNCTION static void passing(int64_t c, int64_t A, int32_t n, int32_t& lo, int32_t& hi) {
-    // c: the biased edge value at d = 0; inside means c + A d > 0.
-    if (A == 0) {
-      if (c <= 0) hi = -1;
-      return;
-    }
-    if (A > 0) {
-      if (c <= 0) {
-        const int64_t d = (-c) / A + 1;  // smallest d with c + A d > 0
-        if (d > lo) lo = d > n ? n : int32_t(d);
-      }
-    } else {
-      if (c <= 0) {
-        hi = -1;
-        return;
-      }
-      const int64_t d = (c - 1) / (-A);  // largest d with c + A d > 0
-      if (d < hi) hi = int32_t(d);
-    }
-  }
-
-  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t tile) const {
-    const int32_t tx0 = int32_t(tile % uint32_t(g.tilesX)) * kTileSize;
-    const int32_t ty0 = int32_t(tile / uint32_t(g.tilesX)) * kTileSize;
-    uint32_t zb[kTilePixels], ib[kTilePixels];
-    for (int p = 0; p < kTilePixels; ++p) {
-      zb[p] = uint32_t(kClearKey >> 32);
-      ib[p] = 0;
-    }
-    const uint32_t total = counters(kRasterWork) < capacity ? counters(kRasterWork) : capacity;
-    const uint32_t begin = tileStart(tile) < total ? tileStart(tile) : total;
-    const uint32_t end = tileStart(tile + 1) < total ? tileStart(tile + 1) : total;
-    for (uint32_t k = begin; k < end; ++k) {
-      const uint32_t i = list(k);
-      const RasterTri& t = tris(i);
-      const int32_t x0 = imax(t.minX, tx0), x1 = imin(t.maxX, tx0 + kTileSize - 1);
-      const int32_t y0 = imax(t.minY, ty0), y1 = imin(t.maxY, ty0 + kTileSize - 1);
-      const Edges e(t);
-      const int32_t n = x1 - x0 + 1;
-      const float z0 = t.z[0], dz1 = t.z[1] - t.z[0], dz2 = t.z[2] - t.z[0], ia = t.invArea;
-      const double a0 = double(e.A[0]), a2 = double(e.A[2]);
-      const uint32_t id = i + 1;
-      for (int32_t y = y0; y <= y1; ++y) {
-        const int64_t c0 = e.eval(0, x0, y), c1 = e.eval(1, x0, y), c2 = e.eval(2, x0, y);
-        int32_t lo = 0, hi = n - 1;
-        passing(c0 + e.bias[0], e.A[0], n, lo, hi);
-        passing(c1 + e.bias[1], e.A[1], n, lo, hi);
-        passing(c2 + e.bias[2], e.A[2], n, lo, hi);
-        if (lo > hi) continue;
-        const double s0 = double(c0 + e.A[0] * lo), s2 = double(c2 + e.A[2] * lo);
-        uint32_t* zr = zb + (y - ty0) * kTileSize + (x0 - tx0) + lo;
-        uint32_t* ir = ib + (y - ty0) * kTileSize + (x0 - tx0) + lo;
-        if (hi - lo + 1 >= kWideSpan) depthSpanWide(hi - lo + 1, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
-        else depthSpan(hi - lo + 1, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
-      }
-    }
-    for (int r = 0; r < kTileSize; ++r) {
-      const int32_t y = ty0 + r;
-      if (y >= height) break;
-      for (int c = 0; c < kTileSize && tx0 + c < width; ++c)
-        vis(int64_t(y) * width + tx0 + c) = uint64_t(zb[r * kTileSize + c]) << 32 | ib[r * kTileSize + c];
-    }
-  }
-};
-
 }  // namespace
 
 // The host fine stage (FineRasterHost) is compiled only for host backends.
 template <bool kHost>
 static void launchFine(FrameBuffers& f, const BinGeometry& g) {
   if constexpr (kHost) {
-    using Host = std::conditional_t<kHost, FineRasterHost, void>;  // dependent: not built for GPUs
+    using Host = std::conditional_t<kHost, FineRasterHost<VisSink>, void>;  // dependent: not built for GPUs
     if (f.vp.samples.count == 1 && kTeamSize == 1) {
-      using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
+      // Tiles cost what they hold (background is cheap): handed out dynamically.
+      using Policy = Kokkos::RangePolicy<Exec, Kokkos::Schedule<Kokkos::Dynamic>, Kokkos::IndexType<uint32_t>>;
       Kokkos::parallel_for("rast::raster::binned::fine_host", Policy(0, g.numTiles()),
-                           Host{f.tris, f.tileStart, f.work, f.counters, f.vis, g, f.vp.width, f.vp.height, f.workCapacity});
+                           Host{f.tris, f.tileStart, f.work, f.counters, g, f.vp.width, f.vp.height, f.workCapacity,
+                                VisSink{f.vis, f.vp.width}});
       return;
     }
   }
@@ -293,7 +175,7 @@ static void launchFine(FrameBuffers& f, const BinGeometry& g) {
                                   f.workCapacity, f.vp.samples, level});
 }
 
-void rasterBinned(FrameBuffers& f) {
+BinGeometry binTriangles(FrameBuffers& f) {
   BinGeometry g;
   g.tilesX = (f.vp.width + kTileSize - 1) / kTileSize;
   g.tilesY = (f.vp.height + kTileSize - 1) / kTileSize;
@@ -324,7 +206,11 @@ void rasterBinned(FrameBuffers& f) {
   }
   Kokkos::parallel_for("rast::raster::binned::fill", Policy(0, g.batches),
                        FillBins{f.tris, f.counters, f.workOffset, f.work, g, f.workCapacity});
+  return g;
+}
 
+void rasterBinned(FrameBuffers& f) {
+  const BinGeometry g = binTriangles(f);
   launchFine<!kOnDevice>(f, g);
 }
 

@@ -185,28 +185,6 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   if (lastAuto_) rasterStatistics(frame_);
   if (timer) timer->mark("setup");
 
-  Kokkos::Profiling::pushRegion("rast::raster");
-  const LinePass linePass = makeLinePass(scene_, rs);
-  if (rs.polygon != PolygonMode::Fill) {
-    clearVisibility(frame_);  // triangles drawn as edges or corners only
-  } else switch (lastMethod_) {
-    case RasterMethod::Naive:
-      clearVisibility(frame_);
-      rasterNaive(frame_);
-      break;
-    case RasterMethod::Binned:
-      rasterBinned(frame_);
-      break;
-    default:
-      clearVisibility(frame_);
-      rasterVisBuffer(frame_);
-      break;
-  }
-  // Points and lines after the triangles: binned writes every pixel.
-  rasterLinesAndPoints(scene_, frame_, linePass);
-  Kokkos::Profiling::popRegion();
-  if (timer) timer->mark("raster");
-
   ShadeParams sp{};
   sp.mode = rs.shading;
   sp.filter = rs.filter;
@@ -231,8 +209,39 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   sp.backgroundFilm = isRawShading(rs.shading) ? unpackRaw8(sp.backgroundPacked) : rs.background;
   const glm::dmat4 view = cam.view();
   for (int k = 0; k < 16; ++k) sp.view.m[k] = float(glm::value_ptr(view)[k]);
+  Kokkos::Profiling::pushRegion("rast::raster");
+  const LinePass linePass = makeLinePass(scene_, rs);
+  // On the CPU the binned raster can shade each tile as it finishes (stages.h):
+  // the shade stage's time is then part of the raster's.
+  const bool fused = lastMethod_ == RasterMethod::Binned && rs.polygon == PolygonMode::Fill &&
+                     fusedBinnedShadeUsable(frame_, sp, linePass.lineItems() + linePass.pointItems() > 0);
+  if (rs.polygon != PolygonMode::Fill) {
+    clearVisibility(frame_);  // triangles drawn as edges or corners only
+  } else switch (lastMethod_) {
+    case RasterMethod::Naive:
+      clearVisibility(frame_);
+      rasterNaive(frame_);
+      break;
+    case RasterMethod::Binned:
+      if (fused) {
+        rasterLinesAndPoints(scene_, frame_, linePass);  // none to draw; records the pass for shading
+        rasterBinnedShaded(scene_, frame_, sp, lights_);
+      } else {
+        rasterBinned(frame_);
+      }
+      break;
+    default:
+      clearVisibility(frame_);
+      rasterVisBuffer(frame_);
+      break;
+  }
+  // Points and lines after the triangles: binned writes every pixel.
+  if (!fused) rasterLinesAndPoints(scene_, frame_, linePass);
+  Kokkos::Profiling::popRegion();
+  if (timer) timer->mark("raster");
+
   Kokkos::Profiling::pushRegion("rast::shade");
-  shadeStage(scene_, frame_, sp, lights_);
+  if (!fused) shadeStage(scene_, frame_, sp, lights_);
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("shade");
   if (film && !supersampling_) runPost(cam, rs, timer);

@@ -126,16 +126,28 @@ struct ShadeSpans : Shade {
     const int32_t x0 = int32_t(item % runsPerRow) * run;
     const int32_t n = (x0 + run < width ? x0 + run : width) - x0;
     const int64_t row = int64_t(Y) * width + x0;
-    uint32_t idx[kMaxSpanRun];
+    uint32_t idx[kMaxSpanRun], depthBits[kMaxSpanRun];
     for (int32_t j = 0; j < n; ++j) {
       const uint64_t key = vis(row + j);
       idx[j] = uint32_t(key & 0xffffffffu);
-      if (p.wantDepth) depthOut(row + j) = bitsFloat(uint32_t(key >> 32));
-      if (p.wantPrimId) {
+      depthBits[j] = uint32_t(key >> 32);
+    }
+    shadeRow(x0, Y, n, idx, depthBits);
+  }
+
+  // Pixels [x0, x0 + n) of row Y, given the visibility keys' halves: raster
+  // index + 1 (0: none) and depth bits. Also called by the fused binned
+  // raster (shade_stage.cpp) with a finished tile's rows.
+  KOKKOS_INLINE_FUNCTION void shadeRow(int32_t x0, int32_t Y, int32_t n, const uint32_t* idx,
+                                       const uint32_t* depthBits) const {
+    const int64_t row = int64_t(Y) * width + x0;
+    if (p.wantDepth)
+      for (int32_t j = 0; j < n; ++j) depthOut(row + j) = bitsFloat(depthBits[j]);
+    if (p.wantPrimId)
+      for (int32_t j = 0; j < n; ++j) {
         const uint32_t id = idx[j];
         primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
       }
-    }
     TriFrag f;
     for (int32_t j = 0; j < n;) {
       const uint32_t id = idx[j];

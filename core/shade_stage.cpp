@@ -2,6 +2,7 @@
 // from the visibility buffer. The fragment shader is in shade_fragment.h; on
 // the CPU, runs of pixels of one triangle go through shade_spans.h.
 #include "shade_fragment.h"
+#include "raster_binned.h"
 #include "shade_spans.h"
 
 #include <type_traits>
@@ -41,9 +42,48 @@ void launchShade(const Shade& k, int samples, const Range& items) {
   Kokkos::parallel_for("rast::shade", lightweight(items), k);
 }
 
+// The fused binned raster's sink: a finished tile's rows shaded at once.
+struct ShadeSink {
+  shading::ShadeSpans spans;
+  KOKKOS_INLINE_FUNCTION void tile(int32_t tx0, int32_t ty0, int32_t w, int32_t h, const uint32_t* zb,
+                                   const uint32_t* ib) const {
+    for (int r = 0; r < h; ++r) spans.shadeRow(tx0, ty0 + r, w, ib + r * kTileSize, zb + r * kTileSize);
+  }
+};
+
+template <bool kHost>
+bool launchFused(const Shade& k, FrameBuffers& f) {
+  if constexpr (kHost) {
+    using Fine = std::conditional_t<kHost, FineRasterHost<ShadeSink>, void>;  // dependent: not built for GPUs
+    const BinGeometry g = binTriangles(f);
+    // Tiles cost what they hold (background is cheap): handed out dynamically.
+    using Policy = Kokkos::RangePolicy<Exec, Kokkos::Schedule<Kokkos::Dynamic>, Kokkos::IndexType<uint32_t>>;
+    Kokkos::parallel_for("rast::raster::binned::fine_shade", Policy(0, g.numTiles()),
+                         Fine{f.tris, f.tileStart, f.work, f.counters, g, f.vp.width, f.vp.height, f.workCapacity,
+                              ShadeSink{shading::ShadeSpans{k}}});
+    return true;
+  }
+  return false;
+}
+
+// Everything shadeStage allocates and the functor it launches.
+Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
+
 }  // namespace
 
-void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
+bool fusedBinnedShadeUsable(const FrameBuffers& f, const ShadeParams& p, bool linesOrPoints) {
+  const int run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
+  return !kOnDevice && kTeamSize == 1 && !linesOrPoints && shading::ShadeSpans::usable(p, f.vp.samples.count, run);
+}
+
+void rasterBinnedShaded(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
+  const Shade k = makeShade(s, f, p, lights);
+  if (!launchFused<!kOnDevice>(k, f)) throw Error("internal: the fused binned raster and shade runs on host backends only");
+}
+
+namespace {
+
+Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
   const int64_t n = int64_t(f.vp.width) * f.vp.height;
   ensureCapacity(f.color, "frame.color", size_t(n));
   if (p.wantDepth) ensureCapacity(f.depth, "frame.depth", size_t(n));
@@ -66,8 +106,14 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   // Runs of kShadeRun pixels along a row (the last run of a row may be shorter).
   k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
   k.runsPerRow = (f.vp.width + k.run - 1) / k.run;
-  const Range items(0, int64_t(k.runsPerRow) * f.vp.height);
-  launchShade<!kOnDevice>(k, f.vp.samples.count, items);
+  return k;
+}
+
+}  // namespace
+
+void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
+  const Shade k = makeShade(s, f, p, lights);
+  launchShade<!kOnDevice>(k, f.vp.samples.count, Range(0, int64_t(k.runsPerRow) * f.vp.height));
 }
 
 }  // namespace rast

@@ -61,6 +61,15 @@ struct ShadeParams {
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
 
+// The binned raster and the shade stage in one pass on host backends: each
+// tile is shaded as soon as its triangles are depth-tested, from the tile's
+// depth and ids in cache, and no visibility buffer is written (f.vis is left
+// as it was). Same ids, depth and colours as rasterBinned + shadeStage.
+// Usable where the span kernel covers the frame and no points or lines are
+// drawn afterwards into the visibility buffer.
+bool fusedBinnedShadeUsable(const FrameBuffers& f, const ShadeParams& p, bool linesOrPoints);
+void rasterBinnedShaded(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
+
 // Supersampling by accumulation in float: add the pass's film (f.post.hdr)
 // into f.accum, then put the average back in the film (encoded by the post
 // chain's encoder).
