@@ -10,6 +10,7 @@
 namespace rast {
 
 KOKKOS_INLINE_FUNCTION int32_t wrapIndex(int32_t i, int32_t n, int32_t mode) {
+  if (i >= 0 && i < n) return i;  // inside: every mode keeps it (and no division)
   if (mode == WrapClamp) return i < 0 ? 0 : (i >= n ? n - 1 : i);
   if (mode == WrapMirror) {
     const int32_t period = 2 * n;
