@@ -49,4 +49,15 @@ std::string deviceDescription() {
   return os.str();
 }
 
+DeviceMemory deviceMemory() {
+  DeviceMemory m;
+  size_t freeB = 0, totalB = 0;
+  if (hipMemGetInfo(&freeB, &totalB) == hipSuccess) {
+    m.known = true;
+    m.freeBytes = freeB;
+    m.totalBytes = totalB;
+  }
+  return m;
+}
+
 }  // namespace rast

@@ -38,4 +38,6 @@ std::vector<std::pair<std::string, double>> StageTimer::finish() { return impl_-
 
 std::string deviceDescription() { return describeExecSpace(); }
 
+DeviceMemory deviceMemory() { return {}; }
+
 }  // namespace rast

@@ -32,4 +32,13 @@ class StageTimer {
 // Backend, Kokkos version and parallelism, one "key: value" per line.
 std::string deviceDescription();
 
+// The accelerator's memory as its runtime reports it (cudaMemGetInfo,
+// hipMemGetInfo), for soak tests and overlays; known == false on host
+// backends, whose memory is the process's own (RSS).
+struct DeviceMemory {
+  bool known = false;
+  size_t freeBytes = 0, totalBytes = 0;
+};
+DeviceMemory deviceMemory();
+
 }  // namespace rast

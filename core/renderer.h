@@ -50,6 +50,13 @@ class Renderer {
   // top row first, as image files store it; depth, ids and normals keep
   // OpenGL's bottom-up row order.
   std::vector<uint32_t> colorTopDown() const;
+  // The same colour buffer where the pipeline keeps it, with no copy: sRGB
+  // RGBA8, bottom row first, width x height of the last frame, in the
+  // execution space's memory (device memory when colorOnDevice()). Valid until
+  // the next frame. Lets a display copy device to device (rast-viewer's
+  // graphics interop) or upload straight from host memory.
+  const uint32_t* colorData() const { return frame_.color.data(); }
+  static constexpr bool colorOnDevice() { return kOnDevice; }
   std::vector<float> depthBottomUp() const;
   std::vector<uint32_t> primIdsBottomUp() const;
   std::vector<float3> normalsBottomUp() const;

@@ -24,17 +24,24 @@ ap.add_argument("--bench", nargs="*", default=[])
 ap.add_argument("--out", required=True)
 a = ap.parse_args()
 
+def tag(f, files):
+    # With several files (e.g. before/after a change), each label says which.
+    return f" [{os.path.splitext(os.path.basename(f))[0]}]" if len(files) > 1 else ""
+
+
 rows = []
 for f in a.ssao:
     with open(f) as fh:
-        rows += list(csv.DictReader(fh))
+        for r in csv.DictReader(fh):
+            r["scene"] = os.path.basename(r["scene"]) + tag(f, a.ssao)
+            rows.append(r)
 fig, axes = plt.subplots(1, 2 if a.bench else 1, figsize=(12 if a.bench else 6.5, 4.5))
 ax = axes[0] if a.bench else axes
 for scene in dict.fromkeys(r["scene"] for r in rows):
     rs = [r for r in rows if r["scene"] == scene]
     xs = [float(r["ssao_median_ms"]) for r in rs]
     ys = [float(r["rmse"]) for r in rs]
-    ax.plot(xs, ys, "o-", label=os.path.basename(scene))
+    ax.plot(xs, ys, "o-", label=scene)
     for r, x, y in zip(rs, xs, ys):
         ax.annotate(r["samples"], (x, y), textcoords="offset points", xytext=(3, 3), fontsize=7)
 r0 = rows[0]
@@ -52,7 +59,7 @@ if a.bench:
     for f in a.bench:
         with open(f) as fh:
             for r in csv.DictReader(fh):
-                groups.append((f"{r['backend']} {os.path.basename(r['scene'])} {r['width']}x{r['height']}",
+                groups.append((f"{r['backend']} {os.path.basename(r['scene'])} {r['width']}x{r['height']}{tag(f, a.bench)}",
                                [float(r.get(p + "_median_ms") or 0.0) for p in PASSES]))
     width = 0.8 / max(1, len(groups))
     for g, (label, vals) in enumerate(groups):

@@ -12,7 +12,10 @@
      methods are bit-identical by design, so the pipeline image may not change);
      P turns bloom on;
  (d) keys 2/3 switch to wireframe (polygon mode line) and points, each image equal to
-     `rast render --polygon line|point`; key 1 returns to the same triangles.
+     `rast render --polygon line|point`; key 1 returns to the same triangles;
+ (e) a short soak (scripts/viewer_soak.py: orbiting, every mode key in turn)
+     keeps resident memory flat, and the summary names the display path the
+     build uses (host builds: the pipeline's host buffer, no copy).
 
 Exit 77 (skipped) when rast-viewer or xvfb-run is missing.
 Standard library only: PNGs are read by tests/rastimg.py."""
@@ -305,6 +308,30 @@ if all(os.path.exists(s) for s in shots):
         check(d < 1.0, f"viewer mode {mode} == rast render --polygon {mode} (mean abs diff {d:.4f})")
 else:
     check(False, "prim screenshots written")
+
+# ------------------------------------------------------------------ (e) soak
+print("(e) short soak: memory flat, display path named")
+soak = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scripts", "viewer_soak.py")
+if not os.path.exists(soak):
+    soak = os.path.join(os.path.dirname(os.path.abspath(__file__)), "viewer_soak.py")  # a copied test folder
+soak_json = wd("soak.json")
+r = subprocess.run([xvfb, "-a", "-s", "-screen 0 1280x800x24", sys.executable, soak, "--viewer", viewer,
+                    "--frames", "1800", "--key-every", "40", "--sample-every", "300", "--size", "96x64",
+                    "--max-growth-mib", "8", "--json", soak_json],
+                   capture_output=True, text=True, timeout=900, env=dict(os.environ, OMP_PROC_BIND="false"))
+with open(wd("soak.log"), "w") as f:
+    f.write(r.stdout + "\n--- stderr\n" + r.stderr)
+check(r.returncode == 0, f"soak passed (rc {r.returncode}): {(r.stdout + r.stderr).strip()[-300:]}")
+if os.path.exists(soak_json):
+    import json
+    res = json.load(open(soak_json))
+    check(len(res["samples"]) >= 4, f"memory sampled {len(res['samples'])} times")
+    summ = res.get("summary") or ""
+    check("display " in summ, "the summary names the display path")
+    # A host backend shows its own buffer; a GPU build copies device to device
+    # or says why it cannot.
+    check(any(p in summ for p in ("display host memory", "display CUDA-GL interop", "display host copy (interop unavailable: ")),
+          f"display path is one of the known ones: {summ[summ.find('display '):][:100]}")
 
 if failures:
     print(f"FAILED: {len(failures)} check(s): " + "; ".join(failures))

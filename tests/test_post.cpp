@@ -4,12 +4,14 @@
 #include "core/color.h"
 #include "core/image_metrics.h"
 #include "core/post/bloom.h"
+#include "core/post/ssao.h"
 #include "core/post/tonemap.h"
 #include "test_support.h"
 
 #include <catch2/catch.hpp>
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace rast;
@@ -194,7 +196,11 @@ TEST_CASE("SSAO darkens the inside of a concave corner and leaves an open plane 
     r.render(cam, st);
     return r.colorTopDown();
   };
-  // Open plane: every covered pixel keeps its light within 2%.
+  // Open plane: every covered pixel keeps its light within 3%. (2% until the
+  // directions were interleaved: a pixel now marches a quarter of them, its
+  // 2x2 cell the same quarter, so one direction grazing the plane's depth
+  // steps weighs more after the blur; measured worst: 2.4%, two pixels of
+  // 160x120, the rest within 1.5%.)
   {
     const Scene floor = cornerScene(false);
     const auto a = render(floor, rs), b = render(floor, ao);
@@ -202,7 +208,7 @@ TEST_CASE("SSAO darkens the inside of a concave corner and leaves an open plane 
     for (size_t i = 0; i < a.size(); ++i) {
       if (linearGreen(a[i]) == 0.0) continue;
       ++covered;
-      REQUIRE(linearGreen(b[i]) >= 0.98 * linearGreen(a[i]));
+      REQUIRE(linearGreen(b[i]) >= 0.97 * linearGreen(a[i]));
     }
     REQUIRE(covered > W * H / 4);
   }
@@ -227,6 +233,48 @@ TEST_CASE("SSAO darkens the inside of a concave corner and leaves an open plane 
       REQUIRE(ratio({x, 0.0, 0.3}) > 0.98);
       REQUIRE(ratio({x, 0.8, -1.0}) > 0.98);
     }
+  }
+}
+
+TEST_CASE("SSAO's interleave: every 3x3 window marches every direction, each pixel a balanced share, every slot every rotation",
+          "[post][ssao]") {
+  // The march's loop over directions (core/post/ssao.cpp), for pixel (x, y).
+  auto directions = [](int x, int y, int n) {
+    std::vector<int> ks;
+    for (int k = ssaoSlot(x, y, n); k < n; k += ssaoInterleave(n)) ks.push_back(k);
+    return ks;
+  };
+  for (int n = 1; n <= 256; ++n) {
+    // Any 3x3 window (inside the blur's 5x5) sees all n directions.
+    for (int y0 = 0; y0 < 8; ++y0)
+      for (int x0 = 0; x0 < 8; ++x0) {
+        std::vector<int> seen(size_t(n), 0);
+        for (int y = y0; y < y0 + 3; ++y)
+          for (int x = x0; x < x0 + 3; ++x)
+            for (int k : directions(x, y, n)) ++seen[size_t(k)];
+        REQUIRE(*std::min_element(seen.begin(), seen.end()) >= 1);
+      }
+    // A 4x4 tile marches each direction equally often (4 times), and each
+    // pixel a quarter of them: the taps fall by 4.
+    std::vector<int> times(size_t(n), 0);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) {
+        const std::vector<int> ks = directions(x, y, n);
+        REQUIRE(int(ks.size()) >= std::max(1, n / 4));
+        REQUIRE(int(ks.size()) == std::max(1, n / 4) + (n >= 4 && n % 4 > ssaoSlot(x, y, n) ? 1 : 0));
+        for (int k : ks) ++times[size_t(k)];
+      }
+    if (n >= 4)
+      for (int t : times) REQUIRE(t == 4);
+  }
+  // Every slot meets every quarter turn of the rotation pattern in a 4x4 tile
+  // (otherwise its directions all lean one way: see ssao.h).
+  for (int slot = 0; slot < 4; ++slot) {
+    int quarters = 0;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        if (ssaoSlot(x, y, 8) == slot) quarters |= 1 << (ssaoBayer(x, y) / 4);
+    REQUIRE(quarters == 15);
   }
 }
 

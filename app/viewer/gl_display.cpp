@@ -1,8 +1,6 @@
 #include "gl_display.h"
 
-#if defined(RAST_VIEWER_CUDA_GL_INTEROP)
-#include "cuda_gl_interop.h"
-#endif
+#include "backends/gl_interop.h"
 
 #include <GL/gl.h>
 
@@ -11,15 +9,10 @@
 
 namespace rast {
 
-#if !defined(RAST_VIEWER_CUDA_GL_INTEROP)
-// Not a CUDA build: an empty type so that the unique_ptr member compiles.
-class CudaGlTexture {};
-#endif
-
 GlDisplay::GlDisplay() = default;
 
 GlDisplay::~GlDisplay() {
-  interop_.reset();  // unregisters from CUDA before the texture goes
+  interop_.reset();  // unregisters from the GPU runtime before the texture goes
   if (tex_) glDeleteTextures(1, &tex_);
 }
 
@@ -37,44 +30,51 @@ void GlDisplay::ensureTexture(int w, int h) {
   texH_ = h;
 }
 
-void GlDisplay::uploadTopDown(const uint32_t* rgba, int w, int h) {
+void GlDisplay::uploadHost(const uint32_t* rgba, int w, int h, bool topDown, DisplayPath path) {
   ensureTexture(w, h);
   glBindTexture(GL_TEXTURE_2D, tex_);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   // uint32 R-in-the-low-byte on a little-endian host is the byte order R,G,B,A.
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-  topDown_ = true;
-  interopActive_ = false;
+  topDown_ = topDown;
+  path_ = path;
 }
 
 bool GlDisplay::uploadDevice(const void* deviceRgbaBottomUp, int w, int h) {
-#if defined(RAST_VIEWER_CUDA_GL_INTEROP)
   if (interopFailed_ || !deviceRgbaBottomUp) return false;
   ensureTexture(w, h);
+  std::string why;
   if (!interop_) {
-    interop_ = CudaGlTexture::create(tex_);
+    interop_ = GlTextureInterop::create(tex_, &why);
     if (!interop_) {
       interopFailed_ = true;
-      std::fprintf(stderr, "rast-viewer: CUDA-GL interop unavailable, uploading through the host\n");
+      fallbackReason_ = why;
+      std::fprintf(stderr, "rast-viewer: graphics interop unavailable (%s); uploading through the host\n", why.c_str());
       return false;
     }
   }
-  if (!interop_->copyFrom(deviceRgbaBottomUp, w, h)) {
+  if (!interop_->copyFrom(deviceRgbaBottomUp, w, h, &why)) {
     interop_.reset();
     interopFailed_ = true;
-    std::fprintf(stderr, "rast-viewer: CUDA-GL interop copy failed, uploading through the host\n");
+    fallbackReason_ = why;
+    std::fprintf(stderr, "rast-viewer: graphics interop failed (%s); uploading through the host\n", why.c_str());
     return false;
   }
   topDown_ = false;
-  interopActive_ = true;
+  path_ = DisplayPath::Interop;
   return true;
-#else
-  (void)deviceRgbaBottomUp;
-  (void)w;
-  (void)h;
-  return false;
-#endif
+}
+
+std::string GlDisplay::pathDescription() const {
+  switch (path_) {
+    case DisplayPath::None: return "none yet";
+    case DisplayPath::Interop: return std::string(GlTextureInterop::name()) + " (device to device)";
+    case DisplayPath::HostDirect: return "host memory (the pipeline's buffer, no copy)";
+    case DisplayPath::HostCopy:
+      return "host copy (interop unavailable: " + (fallbackReason_.empty() ? std::string("--no-interop") : fallbackReason_) + ")";
+  }
+  return "?";
 }
 
 void GlDisplay::draw(int fbW, int fbH) {

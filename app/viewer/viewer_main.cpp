@@ -3,7 +3,7 @@
 //
 //   rast-viewer [SCENE] [--size WxH] [camera and render options of rast render]
 //               [--script FILE] [--frames N] [--screenshot F.png]
-//               [--window-screenshot F.png] [--no-overlay] [--no-vsync]
+//               [--window-screenshot F.png] [--no-overlay] [--no-vsync] [--no-interop]
 //
 // The scene (and the script) are loaded before any window opens, so bad input
 // ends in one line "rast-viewer: error: ..." on stderr and exit status 1, with
@@ -33,9 +33,10 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <type_traits>
 #include <utility>
 #include <vector>
+
+#include <unistd.h>  // sysconf, for the resident set size
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -47,26 +48,33 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-double median(std::vector<double> v) {
+double median(std::vector<double> v) {  // by value: sorts a copy
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// The device-side colour buffer, when the renderer offers one: a Renderer with
-// `const uint32_t* colorDeviceData() const` (the colour buffer, bottom row
-// first, in Mem) lets CUDA builds skip the host copy. Without that accessor
-// every build uploads through the host (Renderer::colorTopDown).
-template <class R, class = void>
-struct HasColorDeviceData : std::false_type {};
-template <class R>
-struct HasColorDeviceData<R, std::void_t<decltype(std::declval<const R&>().colorDeviceData())>> : std::true_type {};
+// Per-frame times, bounded: a soak of 100,000 frames must not grow the heap,
+// so each series keeps the last kKeep samples (medians are of those).
+constexpr size_t kKeep = 16384;
+struct Series {
+  std::vector<double> v;
+  size_t next = 0;
+  void push(double x) {
+    if (v.size() < kKeep) v.push_back(x);
+    else v[next] = x;
+    next = (next + 1) % kKeep;
+  }
+  double median() const { return rast::median(v); }
+};
 
-template <class R>
-const void* colorDevicePointer(const R& r) {
-  if constexpr (HasColorDeviceData<R>::value) return static_cast<const void*>(r.colorDeviceData());
-  else return nullptr;
+// Resident set size of this process in bytes (Linux /proc; 0 elsewhere).
+size_t residentBytes() {
+  std::ifstream f("/proc/self/statm");
+  size_t pages = 0, rss = 0;
+  if (!(f >> pages >> rss)) return 0;
+  return rss * size_t(sysconf(_SC_PAGESIZE));
 }
 
 std::string g_glfwError;
@@ -95,7 +103,7 @@ struct ViewerOptions {
   SceneOptions scene;
   std::string script, screenshot, windowScreenshot;
   int frames = 0;
-  bool noOverlay = false, noVsync = false;
+  bool noOverlay = false, noVsync = false, noInterop = false;
 };
 
 // The modes this build knows (asked by name, so that modes the pipeline gains
@@ -194,8 +202,9 @@ class Viewer {
   FrameStats stats_;
   std::vector<std::pair<std::string, double>> stages_;
   double renderMs_ = 0, uploadMs_ = 0, copyOutMs_ = 0;  // upload includes the copy out of the pipeline
+  double drawMs_ = 0, overlayMs_ = 0, swapMs_ = 0;     // present(): the quad, ImGui, glfwSwapBuffers
   std::deque<double> recentFrameMs_;
-  std::vector<double> frameMs_, renderMsAll_, uploadMsAll_, copyOutMsAll_, presentMsAll_;
+  Series frameMs_, renderMsAll_, uploadMsAll_, copyOutMsAll_, drawMsAll_, overlayMsAll_, swapMsAll_;
   Clock::time_point lastFrameEnd_{};
   int framesShown_ = 0;
 };
@@ -407,10 +416,14 @@ void Viewer::renderPipeline() {
   renderMs_ = msSince(t0);
   const auto t1 = Clock::now();
   copyOutMs_ = 0.0;
-  if (!display_->uploadDevice(colorDevicePointer(renderer_), rs_.width, rs_.height)) {
+  // The cheapest way to the texture this build has (gl_display.h): device to
+  // device, straight from host memory, or a copy out of the device.
+  if (!Renderer::colorOnDevice()) {
+    display_->uploadHost(renderer_.colorData(), rs_.width, rs_.height, /*topDown=*/false, DisplayPath::HostDirect);
+  } else if (opts_.noInterop || !display_->uploadDevice(renderer_.colorData(), rs_.width, rs_.height)) {
     const std::vector<uint32_t> px = renderer_.colorTopDown();
     copyOutMs_ = msSince(t1);
-    display_->uploadTopDown(px.data(), rs_.width, rs_.height);
+    display_->uploadHost(px.data(), rs_.width, rs_.height, /*topDown=*/true, DisplayPath::HostCopy);
   }
   uploadMs_ = msSince(t1);
   dirty_ = false;
@@ -443,7 +456,8 @@ void Viewer::drawOverlay() {
     ImGui::Text("method %s%s", toString(stats_.method), rs_.raster == RasterMethod::Auto ? " (auto)" : "");
     ImGui::Text("backend %s (%s threads)", backend_.c_str(), concurrency_.c_str());
     if (!device_.empty()) ImGui::TextUnformatted(device_.c_str());
-    ImGui::Text("resolution %dx%d%s", rs_.width, rs_.height, display_->interopActive() ? "  (CUDA-GL interop)" : "");
+    ImGui::Text("resolution %dx%d", rs_.width, rs_.height);
+    ImGui::Text("display: %s", display_->pathDescription().c_str());
     ImGui::Separator();
 
     int prim = int(prim_);
@@ -550,32 +564,41 @@ void Viewer::drawOverlay() {
 void Viewer::present(const std::string& windowShot) {
   int fw = 0, fh = 0;
   glfwGetFramebufferSize(win_, &fw, &fh);
+  // Host-side times of each part (GL queues work; the swap is where the host
+  // waits for it, and under Xvfb where the frame is copied to the X server).
+  auto t = Clock::now();
   display_->draw(fw, fh);
+  drawMs_ = msSince(t);
+  t = Clock::now();
   if (imgui_) drawOverlay();
+  overlayMs_ = msSince(t);
   if (!windowShot.empty()) {
     writePng(windowShot, fw, fh, GlDisplay::readWindow(fw, fh));
     std::printf("rast-viewer: wrote %s (window, %dx%d)\n", windowShot.c_str(), fw, fh);
     std::fflush(stdout);
   }
+  t = Clock::now();
   glfwSwapBuffers(win_);
+  swapMs_ = msSince(t);
 }
 
 void Viewer::frame() {
   // Render every frame, changed or not: the overlay's times are the pipeline's.
   renderPipeline();
-  const auto t0 = Clock::now();
   present();
-  presentMsAll_.push_back(msSince(t0));
-  uploadMsAll_.push_back(uploadMs_);
-  copyOutMsAll_.push_back(copyOutMs_);
+  drawMsAll_.push(drawMs_);
+  overlayMsAll_.push(overlayMs_);
+  swapMsAll_.push(swapMs_);
+  uploadMsAll_.push(uploadMs_);
+  copyOutMsAll_.push(copyOutMs_);
   const auto now = Clock::now();
   if (framesShown_ > 0) {
     const double ms = std::chrono::duration<double, std::milli>(now - lastFrameEnd_).count();
-    frameMs_.push_back(ms);
+    frameMs_.push(ms);
     recentFrameMs_.push_back(ms);
     if (recentFrameMs_.size() > 30) recentFrameMs_.pop_front();
   }
-  renderMsAll_.push_back(renderMs_);
+  renderMsAll_.push(renderMs_);
   lastFrameEnd_ = now;
   ++framesShown_;
 }
@@ -685,6 +708,17 @@ void Viewer::applyScriptEvent(const ScriptEvent& e) {
       std::printf("state: %s triangles=%u visible=%u\n", stateLine().c_str(), stats_.trianglesIn, stats_.rasterTris);
       std::fflush(stdout);
       break;
+    case K::PrintMemory: {
+      const DeviceMemory dm = deviceMemory();
+      std::printf("memory: frame %d rss %.1f MiB renderer %.1f MiB", framesShown_, residentBytes() / 1048576.0,
+                  renderer_.deviceBytes() / 1048576.0);
+      if (dm.known)
+        std::printf(" device-used %.1f MiB of %.1f MiB", (dm.totalBytes - dm.freeBytes) / 1048576.0,
+                    dm.totalBytes / 1048576.0);
+      std::printf("\n");
+      std::fflush(stdout);
+      break;
+    }
     case K::Quit: quit_ = true; break;
   }
 }
@@ -708,11 +742,16 @@ int Viewer::run() {
   if (!opts_.screenshot.empty()) saveScreenshot(opts_.screenshot);
   if (!opts_.windowScreenshot.empty()) saveWindowScreenshot(opts_.windowScreenshot);
   if (framesShown_ > 1) {
-    const double fm = median(frameMs_);
-    std::printf("rast-viewer: %d frames at %dx%d, median frame %.2f ms (%.1f fps): render %.2f ms, upload %.2f ms "
-                "(copy-out %.2f ms), draw+overlay+swap %.2f ms; method %s, backend %s\n",
-                framesShown_, rs_.width, rs_.height, fm, fm > 0 ? 1000.0 / fm : 0.0, median(renderMsAll_),
-                median(uploadMsAll_), median(copyOutMsAll_), median(presentMsAll_),
+    // Medians of the last kKeep frames. "without the swap" is what the viewer
+    // itself costs per frame, whatever the window system adds.
+    const double fm = frameMs_.median(), sw = swapMsAll_.median();
+    const double own = renderMsAll_.median() + uploadMsAll_.median() + drawMsAll_.median() + overlayMsAll_.median();
+    std::printf("rast-viewer: %d frames at %dx%d, median frame %.3f ms (%.1f fps): render %.3f ms, upload %.3f ms "
+                "(copy-out %.3f ms), draw %.3f ms, overlay %.3f ms, swap %.3f ms; without the swap %.3f ms (%.0f fps); "
+                "display %s; method %s, backend %s\n",
+                framesShown_, rs_.width, rs_.height, fm, fm > 0 ? 1000.0 / fm : 0.0, renderMsAll_.median(),
+                uploadMsAll_.median(), copyOutMsAll_.median(), drawMsAll_.median(), overlayMsAll_.median(), sw, own,
+                own > 0 ? 1000.0 / own : 0.0, display_->pathDescription().c_str(),
                 toString(renderer_.resolveMethod(rs_)), backend_.c_str());
   }
   return 0;
@@ -730,6 +769,8 @@ int run(int argc, char** argv) {
   app.add_option("--window-screenshot", o.windowScreenshot, "at exit, write the window (with the overlay) to this PNG");
   app.add_flag("--no-overlay", o.noOverlay, "no Dear ImGui overlay");
   app.add_flag("--no-vsync", o.noVsync, "do not wait for the display's refresh");
+  app.add_flag("--no-interop", o.noInterop,
+               "GPU builds: copy each frame through the host instead of device to device (to compare the paths)");
   if (const std::optional<int> status = parseCommandLine(app, "rast-viewer", argc, argv)) return *status;
   if (o.frames < 0) throw Error("--frames must be >= 0");
 

@@ -120,12 +120,15 @@ std::vector<ScriptEvent> parseScript(const std::string& text, const std::string&
     } else if (cmd == "print-state") {
       argc(0, 0);
       e.kind = ScriptEvent::Kind::PrintState;
+    } else if (cmd == "print-memory") {
+      argc(0, 0);
+      e.kind = ScriptEvent::Kind::PrintMemory;
     } else if (cmd == "quit") {
       argc(0, 0);
       e.kind = ScriptEvent::Kind::Quit;
     } else {
       fail("unknown event '" + w[0] +
-           "' (frame, key, drag, scroll, resize, screenshot, window-screenshot, print-camera, print-state, quit)");
+           "' (frame, key, drag, scroll, resize, screenshot, window-screenshot, print-camera, print-state, print-memory, quit)");
     }
     events.push_back(e);
   }

@@ -13,6 +13,7 @@
 //   window-screenshot FILE.png    the window as shown, overlay included
 //   print-camera                  "camera: --eye ... --far ..." on stdout
 //   print-state                   "state: --size WxH --cull ... method=..." on stdout
+//   print-memory                  "memory: frame N rss X MiB renderer Y MiB [device-used ...]"
 //   quit                          stop here
 #pragma once
 
@@ -22,7 +23,7 @@
 namespace rast {
 
 struct ScriptEvent {
-  enum class Kind { Frame, Key, Drag, Scroll, Resize, Screenshot, WindowScreenshot, PrintCamera, PrintState, Quit };
+  enum class Kind { Frame, Key, Drag, Scroll, Resize, Screenshot, WindowScreenshot, PrintCamera, PrintState, PrintMemory, Quit };
   Kind kind = Kind::Frame;
   int count = 1;              // frame
   int key = 0;                // key: a GLFW key code

@@ -13,7 +13,8 @@ struct PostBuffers {
   DView<float4> hdr;    // per pixel: linear colour (the float film)
   DView<float4> geom;   // per pixel: view-space normal (xyz) and view depth (w > 0; 0 = background), for SSAO
   DView<float> depth;   // per pixel: the view depth alone (geom.w), what SSAO's many taps read
-  DView<float> ao, aoBlur;       // per pixel: ambient occlusion (1 = open) before and after the bilateral blur
+  DView<float> ao, aoBlur;       // per pixel: ambient occlusion (1 = open); the march writes aoBlur, the blur's
+                                 // horizontal half ao, its vertical half aoBlur (the final AO)
   DView<float4> half0, half1;    // bloom: bright pass at half resolution and the blur's ping-pong partner
   DView<float> kernel;           // bloom: Gaussian weights; SSAO: unused
   DView<float4> samples;         // SSAO: hemisphere sample kernel (xyz, scale in w)

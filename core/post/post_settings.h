@@ -18,7 +18,7 @@ struct PostSettings {
   int bloomRadius = 16;         // Gaussian radius in full-resolution pixels (blurred at half resolution)
   bool ssao = false;
   float ssaoRadius = 0.0f;  // world units; 0: 5% of the camera's distance to its target
-  int ssaoSamples = 8;      // hemisphere directions per pixel (1..256), each marched in 4 steps
+  int ssaoSamples = 8;      // hemisphere directions per pixel after the blur (1..256): each pixel marches a quarter, in 4 steps
   bool floatOutput = false;  // keep the frame in float for an HDR file (-o out.pfm)
 
   bool anyPass() const { return exposure != 0.0f || tonemap != ToneMap::None || bloom || ssao; }

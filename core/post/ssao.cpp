@@ -1,8 +1,17 @@
 // SSAO: hemisphere ray marching in view space from the depth and normals that
-// shading wrote for every pixel (PostBuffers::geom), then a depth-aware
-// (bilateral) blur that removes the 4x4 rotation pattern, then the film is
-// multiplied by the result. Fixed sample kernel and rotation pattern: the same
-// result on every backend and every run.
+// shading wrote for every pixel (PostBuffers::geom), interleaved (each pixel
+// marches a quarter of the directions, see ssaoSlot), then a separable
+// depth-aware (bilateral) blur that gathers the block's directions and removes
+// the 4x4 rotation pattern, then the film is multiplied by the result. Fixed
+// sample kernel, rotation and interleave patterns: the same result on every
+// backend and every run.
+//
+// Why interleaved: the march's cost is its scattered depth taps (each a cache
+// sector of its own once the radius spans tens of pixels). Marching all N
+// directions at every pixel and then averaging 25 neighbours spends N x 25
+// rays on each output; marching N/4 per pixel and averaging the same
+// neighbourhood still sees every direction in every block, at a quarter of the
+// taps.
 #include "ssao.h"
 
 #include "chain.h"
@@ -12,8 +21,8 @@
 namespace rast {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
-constexpr int kSteps = 4;  // march steps per sample direction
+constexpr int kSteps = 4;     // march steps per sample direction
+constexpr int kBlurRadius = 2;  // the separable blur's half-width: spans the 2x2 interleave block and the 4x4 rotation
 
 double radicalInverse(uint32_t k, uint32_t base) {
   double inv = 1.0 / base, f = inv, r = 0.0;
@@ -25,6 +34,32 @@ double radicalInverse(uint32_t k, uint32_t base) {
 KOKKOS_INLINE_FUNCTION float3 viewPos(int x, int y, float d, int w, int h, float tanX, float tanY) {
   const float nx = 2.0f * (float(x) + 0.5f) / float(w) - 1.0f, ny = 2.0f * (float(y) + 0.5f) / float(h) - 1.0f;
   return float3{nx * tanX * d, ny * tanY * d, -d};
+}
+
+// Bilateral weight of a neighbour at depth dj for a pixel at depth d: falls off
+// with the depth difference relative to 5% of the depth, so occlusion does not
+// bleed across silhouettes. invTol = 1 / (0.05 d), computed once per pixel: on
+// a GPU the blur is arithmetic-bound, and a division per tap costs more than
+// the tap (IEEE division, since the CUDA build compiles with --fmad=false).
+KOKKOS_INLINE_FUNCTION float depthWeight(float d, float dj, float invTol) {
+  const float dd = (dj - d) * invTol;
+  return 1.0f / (1.0f + dd * dd);
+}
+
+// cos and sin of the 16 rotation angles (ssaoBayer sixteenths of a turn),
+// rounded once on the host from double: every backend uses the same floats,
+// and no kernel evaluates a transcendental per pixel.
+struct RotationTable {
+  float c[16], s[16];
+};
+RotationTable rotationTable() {
+  RotationTable t;
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2.0 * 3.14159265358979323846 * k / 16.0;
+    t.c[k] = float(std::cos(a));
+    t.s[k] = float(std::sin(a));
+  }
+  return t;
 }
 
 }  // namespace
@@ -57,7 +92,9 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
   }
   auto geom = b.geom;
   auto depth = b.depth;
-  auto ao = b.ao;
+  // Ping-pong: the march writes aoBlur, the horizontal blur ao, the vertical
+  // blur aoBlur again (what the `ao` AOV reads).
+  auto raw = b.aoBlur;
   auto kernel = b.samples;
   const int ns = s.ssaoSamples;
   const float radius = v.ssaoRadius, tanX = v.tanX, tanY = v.tanY;
@@ -65,75 +102,107 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
   // front of it: keeps a flat plane from occluding itself through the depth
   // quantisation of sampling it at pixel centres.
   const float bias = 0.03f * radius;
-  Kokkos::parallel_for("rast::post::ssao", Range(0, n), KOKKOS_LAMBDA(const int64_t i) {
+  // Window x of a view-space point S: (S.x / (-S.z tanX) * 0.5 + 0.5) w, as
+  // S.x * (1 / -S.z) * sx + cx: one division per tap instead of two.
+  const float sx = 0.5f * float(w) / tanX, sy = 0.5f * float(h) / tanY, cx = 0.5f * float(w), cy = 0.5f * float(h);
+  const RotationTable rot = rotationTable();
+  // Pixel indices fit 32 bits (kMaxFramebufferSide^2 < 2^31); 64-bit division
+  // and remainder are emulated on GPUs, 32-bit ones are several times cheaper.
+  Kokkos::parallel_for("rast::post::ssao", Range(0, n), KOKKOS_LAMBDA(const int64_t i64) {
+    const int i = int(i64);
     const float4 g = geom(i);
     if (!(g.w > 0.0f)) {
-      ao(i) = 1.0f;
+      raw(i) = 1.0f;
       return;
     }
-    const int x = int(i % w), y = int(i / w);
+    const int y = i / w, x = i - y * w;
     const float3 P = viewPos(x, y, g.w, w, h, tanX, tanY);
     const float3 N{g.x, g.y, g.z};
     // Tangent frame rotated per pixel by a 4x4 ordered (Bayer) pattern of angles.
-    const int bayer[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
-    const float ang = 2.0f * kPi * float(bayer[(x & 3) + 4 * (y & 3)]) / 16.0f;
+    const int rk = ssaoBayer(x, y);
     const float3 a = (N.x < 0.9f && N.x > -0.9f) ? float3{1.0f, 0.0f, 0.0f} : float3{0.0f, 1.0f, 0.0f};
     const float3 T0 = normalize(cross(a, N)), B0 = cross(N, T0);
-    const float ca = ::cosf(ang), sa = ::sinf(ang);
+    const float ca = rot.c[rk], sa = rot.s[rk];
     const float3 T = T0 * ca + B0 * sa, B = cross(N, T);
     // Each sample is a ray (cosine-weighted direction) marched in kSteps
     // steps out to the radius, the first step offset per pixel by the same
     // pattern: occluded when a step lies behind the depth buffer's surface by
-    // no more than the radius (surfaces are assumed that thick).
-    const float jitter = (float(bayer[(y & 3) + 4 * (x & 3)]) + 0.5f) / 16.0f;
-    float occluded = 0.0f;
-    for (int k = 0; k < ns; ++k) {
+    // no more than the radius (surfaces are assumed that thick). This pixel
+    // marches only its slot's share of the directions (ssaoSlot).
+    const float jitter = (float(ssaoBayer(y, x)) + 0.5f) / 16.0f;
+    const int stride = ssaoInterleave(ns);
+    float occluded = 0.0f, marched = 0.0f;
+    for (int k = ssaoSlot(x, y, ns); k < ns; k += stride) {
       const float4 q = kernel(k);
       const float3 dir = T * q.x + B * q.y + N * q.z;
+      marched += 1.0f;
       for (int j = 0; j < kSteps; ++j) {
         const float3 S = P + dir * (radius * (float(j) + jitter) / float(kSteps));
         const float sd = -S.z;
         if (!(sd > 0.0f)) break;
-        const int px = int(::floorf((S.x / (sd * tanX) * 0.5f + 0.5f) * float(w)));
-        const int py = int(::floorf((S.y / (sd * tanY) * 0.5f + 0.5f) * float(h)));
+        const float inv = 1.0f / sd;
+        const int px = int(::floorf(S.x * inv * sx + cx));
+        const int py = int(::floorf(S.y * inv * sy + cy));
         if (px < 0 || py < 0 || px >= w || py >= h) break;
-        const float od = depth(int64_t(py) * w + px);
+        const float od = depth(py * w + px);
         if (od > 0.0f && od < sd - bias && sd - od < radius) {
           occluded += 1.0f;
           break;
         }
       }
     }
-    ao(i) = 1.0f - occluded / float(ns);
+    raw(i) = 1.0f - occluded / marched;
   });
 
-  // Bilateral 5x5 blur: neighbours at a similar depth only, so occlusion does
-  // not bleed across silhouettes. Then the film is darkened.
-  auto blur = b.aoBlur;
-  auto hdr = b.hdr;
-  Kokkos::parallel_for("rast::post::ssao::blur", Range(0, n), KOKKOS_LAMBDA(const int64_t i) {
+  // Separable bilateral blur, kBlurRadius each way: horizontal, then vertical
+  // (which also darkens the film). 2 x 5 taps instead of a 5x5 square's 25;
+  // the product of the two 1D weights approximates the square's.
+  auto mid = b.ao;
+  Kokkos::parallel_for("rast::post::ssao::blur_x", Range(0, n), KOKKOS_LAMBDA(const int64_t i64) {
+    const int i = int(i64);
     const float d = depth(i);
     if (!(d > 0.0f)) {
-      blur(i) = 1.0f;
+      mid(i) = 1.0f;
       return;
     }
-    const int x = int(i % w), y = int(i / w);
-    const float tol = 0.05f * d;
+    const int x = i % w;
+    const float invTol = 1.0f / (0.05f * d);
     float sum = 0.0f, wsum = 0.0f;
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) {
-        const int xx = x + dx, yy = y + dy;
-        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-        const int64_t j = int64_t(yy) * w + xx;
-        const float dj = depth(j);
-        if (!(dj > 0.0f)) continue;
-        const float dd = (dj - d) / tol;
-        const float wt = 1.0f / (1.0f + dd * dd);
-        sum += ao(j) * wt;
-        wsum += wt;
-      }
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
+      const int xx = x + dx;
+      if (xx < 0 || xx >= w) continue;
+      const float dj = depth(i + dx);
+      if (!(dj > 0.0f)) continue;
+      const float wt = depthWeight(d, dj, invTol);
+      sum += raw(i + dx) * wt;
+      wsum += wt;
+    }
+    mid(i) = sum / wsum;
+  });
+  auto out = b.aoBlur;
+  auto hdr = b.hdr;
+  Kokkos::parallel_for("rast::post::ssao::blur_y", Range(0, n), KOKKOS_LAMBDA(const int64_t i64) {
+    const int i = int(i64);
+    const float d = depth(i);
+    if (!(d > 0.0f)) {
+      out(i) = 1.0f;
+      return;
+    }
+    const int y = i / w;
+    const float invTol = 1.0f / (0.05f * d);
+    float sum = 0.0f, wsum = 0.0f;
+    for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
+      const int yy = y + dy;
+      if (yy < 0 || yy >= h) continue;
+      const int j = i + dy * w;
+      const float dj = depth(j);
+      if (!(dj > 0.0f)) continue;
+      const float wt = depthWeight(d, dj, invTol);
+      sum += mid(j) * wt;
+      wsum += wt;
+    }
     const float o = sum / wsum;
-    blur(i) = o;
+    out(i) = o;
     const float4 c = hdr(i);
     hdr(i) = float4{c.x * o, c.y * o, c.z * o, c.w};
   });

@@ -14,8 +14,11 @@
 #                                                sources the binaries were built from
 #   .device/build.env                            where the binaries were built (test data
 #                                                paths compiled into rast_tests)
+#   .device/glref, .device/glref_src/            ../shared/tools/glref built here (the
+#                                                OpenGL yardstick, scripts/device/three_way.sh)
+#                                                and its gen_scenes.py, when found
 #
-# Usage: bash scripts/device/pack.sh [--cuda-build DIR] [--cpu-build DIR]
+# Usage: bash scripts/device/pack.sh [--cuda-build DIR] [--cpu-build DIR] [--glref PATH]
 # Build first, e.g.:
 #   cmake --preset cuda && cmake --build build/cuda --target rast rast_tests
 #   cmake --preset openmp -B build/h-cudaref && cmake --build build/h-cudaref --target rast
@@ -26,8 +29,10 @@ cuda_build=$root/build/cuda
 cpu_build=$root/build/openmp
 assimp=${RAST_ASSIMP_GLTF_DIR:-/usr/share/assimp/models/glTF2}
 shared=${RAST_SHARED_DIR:-$root/../shared}
+glref=$cpu_build/tests/cli_glref_agreement/glref-build/glref
 while [ $# -gt 0 ]; do
   case $1 in
+    --glref) glref=$2; shift 2 ;;
     --cuda-build) cuda_build=$(cd "$2" && pwd); shift 2 ;;
     --cpu-build) cpu_build=$(cd "$2" && pwd); shift 2 ;;
     *) echo "pack.sh: unknown argument $1" >&2; exit 2 ;;
@@ -66,6 +71,14 @@ if [ -d "$shared/models" ]; then
   cp -r "$shared/models" "$dev/shared/models"
 else
   echo "pack.sh: note: $shared/models absent; tests on shared models will skip" >&2
+fi
+
+if [ -x "$glref" ]; then
+  cp "$glref" "$dev/glref"
+  mkdir -p "$dev/glref_src"
+  [ -f "$shared/tools/glref/gen_scenes.py" ] && cp "$shared/tools/glref/gen_scenes.py" "$dev/glref_src/"
+else
+  echo "pack.sh: note: no glref at $glref (ctest cli_glref_agreement builds one); no OpenGL comparison" >&2
 fi
 
 # Kernel-launch counter (Kokkos Tools library; run_suite.sh uses it when present).

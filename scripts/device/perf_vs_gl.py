@@ -5,7 +5,14 @@ EGL and prints its median ms/frame and camera; rast bench draws the same
 triangles with the same camera and lighting with every raster method. Writes a
 CSV and prints the ratio rast/hardware per scene (best method).
 
-  python3 scripts/device/perf_vs_gl.py --rast R --glref G --scenes DIR --out F.csv [--sizes 1920x1080,...]
+With --nvdiffrast, nvdiffrast's CUDA rasterizer (scripts/device/nvdiffrast_bench.py)
+also draws the same triangles (exported by `rast export`) with the same camera,
+raster only, in the same run: the three-way table of docs/performance.md.
+--extra-camera NAME=SCENE:FLAGS adds a scene with a fixed camera (e.g. a view
+from inside a dense model).
+
+  python3 scripts/device/perf_vs_gl.py --rast R --glref G --models DIR --out F.csv [--sizes 1920x1080,...]
+      [--nvdiffrast] [--extra-camera NAME=SCENE:--eye,x,y,z,--target,...]
 """
 import argparse
 import json
@@ -30,7 +37,16 @@ ap.add_argument("--out", required=True)
 ap.add_argument("--rast-label", default="rast")
 ap.add_argument("--naive-max-pixels", type=int, default=2100000,
                 help="bench the naive method only up to this many pixels (it takes seconds a frame on huge triangles)")
+ap.add_argument("--nvdiffrast", action="store_true", help="also time nvdiffrast's CUDA rasterizer (raster only)")
+ap.add_argument("--extra-camera", action="append", default=[],
+                help="NAME=SCENE:FLAGS, FLAGS comma-separated (--eye,0,1,2,... is split at commas before a --)")
 a = ap.parse_args()
+
+nvdr = None
+if a.nvdiffrast:
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from nvdiffrast_bench import Bench  # noqa: E402
+    nvdr = Bench()
 
 scenes = []  # (name, path, camera flags or None for auto)
 if a.models and os.path.isdir(a.models):
@@ -44,6 +60,16 @@ if a.stress and os.path.isdir(a.stress):
             cam = ["--eye", "0,0,1", "--target", "0,0,0", "--up", "0,1,0", "--fovy", "45", "--near", "0.1",
                    "--far", "10"] if m == "bigtri" else None
             scenes.append((m, p, cam))
+for e in a.extra_camera:
+    name, rest = e.split("=", 1)
+    path, flags = rest.split(":", 1)
+    toks, cam = flags.split(","), []
+    for t in toks:  # "--eye,1,2,3,--fovy,45" -> ["--eye", "1,2,3", "--fovy", "45"]
+        if t.startswith("--"):
+            cam += [t, ""]
+        else:
+            cam[-1] = t if not cam[-1] else cam[-1] + "," + t
+    scenes.append((name, path, cam))
 scenes.append(("empty", None, None))  # rast's own frame-time floor (no glref run)
 
 rows = []
@@ -89,9 +115,25 @@ for size in a.sizes.split(","):
                 for st, v in b["stages_median_ms"].items():
                     row[f"{b['method']}_{st}_ms"] = v
         row["ratio_best_vs_gl"] = (best["total_median_ms"] / gl_ms) if gl_ms else None
+        row["ratio_auto_vs_gl"] = (auto["total_median_ms"] / gl_ms) if gl_ms else None
+        row["auto_vs_best"] = auto["total_median_ms"] / best["total_median_ms"]
+        if nvdr and path and cam_flags:
+            with tempfile.TemporaryDirectory() as tmp:
+                glb = os.path.join(tmp, "scene.glb")
+                r = subprocess.run([a.rast, "export", path, "-o", glb], capture_output=True, text=True, timeout=600)
+                if r.returncode == 0:
+                    nv = nvdr.time(glb, cam_flags, w, h, a.frames, a.warmup)
+                    row["nvdiffrast_ms"] = nv["median_ms"]
+                    row["nvdiffrast_covered"] = nv["covered_pixels"]
+                    row["ratio_auto_vs_nvdiffrast"] = auto["total_median_ms"] / nv["median_ms"]
+                    row["ratio_best_vs_nvdiffrast"] = best["total_median_ms"] / nv["median_ms"]
+                else:
+                    print(f"rast export failed on {name}: {r.stderr.strip()}", file=sys.stderr)
         rows.append(row)
         ratio = f"{row['ratio_best_vs_gl']:.3f}" if gl_ms else "-"
         print(f"{size:>10} {name:>12} tris={row['triangles']:>8} gl={gl_ms} rast_best={best['total_median_ms']:.4f}"
-              f" ({best['method']}) auto={auto['method']} {auto['total_median_ms']:.4f} ratio={ratio}", flush=True)
+              f" ({best['method']}) auto={auto['method']} {auto['total_median_ms']:.4f} ratio={ratio}"
+              + (f" nvdiffrast={row['nvdiffrast_ms']:.4f} auto/nvdr={row['ratio_auto_vs_nvdiffrast']:.3f}"
+                 if "nvdiffrast_ms" in row else ""), flush=True)
 
 write_rows(a.out, rows)

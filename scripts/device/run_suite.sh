@@ -113,11 +113,18 @@ PY
   # Post-processing passes (docs/post.md): per-pass times at 1920x1080, and
   # SSAO's error against the ray-traced reference with its cost per sample count.
   case $skip in *,post,*) ;; *)
-    for s in default duck; do
+    for s in default duck cow milktruck engine checkerboard box; do
       if [ "$s" = default ]; then scene=builtin:default; else scene=$dev/shared/models/$s.glb; fi
       [ "$s" = default ] || [ -f "$scene" ] || { echo "=== post-$s: $scene absent, skipped"; continue; }
       step "post-$s" "$dev/cuda/rast" bench "$scene" --size 1920x1080 --frames "$frames" \
         --exposure 0.5 --bloom --ssao --tonemap aces --csv "$out/post_$s.csv"
+    done
+    # SSAO's higher-quality setting (16 directions) where the frame is full.
+    for s in default box; do
+      if [ "$s" = default ]; then scene=builtin:default; else scene=$dev/shared/models/$s.glb; fi
+      [ "$s" = default ] || [ -f "$scene" ] || continue
+      step "post-$s-ssao16" "$dev/cuda/rast" bench "$scene" --size 1920x1080 --frames "$frames" \
+        --ssao=0,16 --csv "$out/post_${s}_ssao16.csv"
     done
     [ -f "$dev/shared/models/duck.glb" ] && step post-ssao-error "$dev/cuda/rast" ssao-error "$dev/shared/models/duck.glb" \
       --size 1920x1080 --error-size 480x270 --rays 256 --samples 1,2,4,8,16,32 --frames 50 --csv "$out/post_ssao.csv"
