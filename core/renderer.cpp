@@ -172,6 +172,8 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   const bool film = rs.post.needsFloat() || supersampling_;
   lastMethod_ = resolveMethod(rs);
   lastAuto_ = rs.raster == RasterMethod::Auto;
+  statsThisFrame_ = lastAuto_ && (!autoStats_.valid || autoFrames_ % kAutoStatsEvery == 0);
+  if (lastAuto_) ++autoFrames_;
 
   if (timer) timer->start();
   Kokkos::Profiling::pushRegion("rast::vertex");
@@ -182,7 +184,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   Kokkos::Profiling::pushRegion("rast::setup");
   primitiveSetup(scene_, frame_, rs.cull == CullMode::Back);
   Kokkos::Profiling::popRegion();
-  if (lastAuto_) rasterStatistics(frame_);
+  if (statsThisFrame_) rasterStatistics(frame_);
   if (timer) timer->mark("setup");
 
   ShadeParams sp{};
@@ -261,7 +263,7 @@ void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* 
 bool Renderer::lastFrameFit(FrameStats* stats) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.counters);
   const uint32_t need = h(kRasterTris);
-  if (lastAuto_) {
+  if (statsThisFrame_) {
     auto sum = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.sumArea);
     auto mx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.maxArea);
     autoStats_ = AutoStats{need <= frame_.triCapacity, sum(), mx(), need};

@@ -94,6 +94,8 @@ class Renderer {
   std::vector<DirectionalLight> uploadedLights_;
   RasterMethod lastMethod_ = RasterMethod::VisBuffer;
   bool lastAuto_ = false;
+  bool statsThisFrame_ = false;  // auto: this frame runs the statistics pass (kAutoStatsEvery)
+  uint32_t autoFrames_ = 0;
   bool supersampling_ = false;  // inside renderSupersampled: passes shade to the film, no post chain
 
   // What `auto` decides from: statistics of the previous frame's raster
