@@ -23,6 +23,10 @@ namespace {
 
 constexpr int kSteps = 4;     // march steps per sample direction
 constexpr int kBlurRadius = 2;  // the separable blur's half-width: spans the 2x2 interleave block and the 4x4 rotation
+// The blur's tile per team: 64x16 outputs, with the apron 68x20 of depth and
+// raw AO plus 64x20 row results in team scratch (16 KiB, under
+// kFastScratchBytes); wide rows keep the loads coalesced.
+constexpr int kBlurTileW = 64, kBlurTileH = 16;
 
 double radicalInverse(uint32_t k, uint32_t base) {
   double inv = 1.0 / base, f = inv, r = 0.0;
@@ -92,9 +96,10 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
   }
   auto geom = b.geom;
   auto depth = b.depth;
-  // Ping-pong: the march writes aoBlur, the horizontal blur ao, the vertical
-  // blur aoBlur again (what the `ao` AOV reads).
-  auto raw = b.aoBlur;
+  // The march writes ao, the blur reads it and writes aoBlur (what the `ao`
+  // AOV reads): separate buffers, since the blur's teams read each other's
+  // aprons.
+  auto raw = b.ao;
   auto kernel = b.samples;
   const int ns = s.ssaoSamples;
   const float radius = v.ssaoRadius, tanX = v.tanX, tanY = v.tanY;
@@ -156,55 +161,75 @@ void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s) {
 
   // Separable bilateral blur, kBlurRadius each way: horizontal, then vertical
   // (which also darkens the film). 2 x 5 taps instead of a 5x5 square's 25;
-  // the product of the two 1D weights approximates the square's.
-  auto mid = b.ao;
-  Kokkos::parallel_for("rast::post::ssao::blur_x", Range(0, n), KOKKOS_LAMBDA(const int64_t i64) {
-    const int i = int(i64);
-    const float d = depth(i);
-    if (!(d > 0.0f)) {
-      mid(i) = 1.0f;
-      return;
-    }
-    const int x = i % w;
-    const float invTol = 1.0f / (0.05f * d);
-    float sum = 0.0f, wsum = 0.0f;
-    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
-      const int xx = x + dx;
-      if (xx < 0 || xx >= w) continue;
-      const float dj = depth(i + dx);
-      if (!(dj > 0.0f)) continue;
-      const float wt = depthWeight(d, dj, invTol);
-      sum += raw(i + dx) * wt;
-      wsum += wt;
-    }
-    mid(i) = sum / wsum;
-  });
+  // the product of the two 1D weights approximates the square's. Both passes
+  // run in one kernel: a team loads its tile of depth and raw AO with a
+  // kBlurRadius apron into team scratch, blurs the rows (apron rows included)
+  // into scratch, then the columns. The same taps in the same order as two
+  // separate passes, so the result is bit-identical to them, without the
+  // intermediate image's round trip through memory or a second launch.
   auto out = b.aoBlur;
   auto hdr = b.hdr;
-  Kokkos::parallel_for("rast::post::ssao::blur_y", Range(0, n), KOKKOS_LAMBDA(const int64_t i64) {
-    const int i = int(i64);
-    const float d = depth(i);
-    if (!(d > 0.0f)) {
-      out(i) = 1.0f;
-      return;
-    }
-    const int y = i / w;
-    const float invTol = 1.0f / (0.05f * d);
-    float sum = 0.0f, wsum = 0.0f;
-    for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
-      const int yy = y + dy;
-      if (yy < 0 || yy >= h) continue;
-      const int j = i + dy * w;
-      const float dj = depth(j);
-      if (!(dj > 0.0f)) continue;
-      const float wt = depthWeight(d, dj, invTol);
-      sum += mid(j) * wt;
-      wsum += wt;
-    }
-    const float o = sum / wsum;
-    out(i) = o;
-    const float4 c = hdr(i);
-    hdr(i) = float4{c.x * o, c.y * o, c.z * o, c.w};
+  constexpr int R = kBlurRadius, TW = kBlurTileW, TH = kBlurTileH, SW = TW + 2 * R, SH = TH + 2 * R;
+  static_assert((2 * SW * SH + TW * SH) * sizeof(float) + 256 <= kFastScratchBytes, "the blur's tile must fit fast scratch");
+  const int tilesX = (w + TW - 1) / TW, tilesY = (h + TH - 1) / TH;
+  using ScratchF = Kokkos::View<float*, Exec::scratch_memory_space, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+  TeamPolicy policy(tilesX * tilesY, kTeamSize);
+  policy.set_scratch_size(0, Kokkos::PerTeam(2 * ScratchF::shmem_size(SW * SH) + ScratchF::shmem_size(TW * SH)));
+  Kokkos::parallel_for("rast::post::ssao::blur", policy, KOKKOS_LAMBDA(const TeamMember& t) {
+    const int x0 = (t.league_rank() % tilesX) * TW, y0 = (t.league_rank() / tilesX) * TH;
+    ScratchF sd(t.team_scratch(0), SW * SH), sa(t.team_scratch(0), SW * SH), sm(t.team_scratch(0), TW * SH);
+    // Depth 0 outside the image: such taps are skipped, as no surface.
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(t, SW * SH), [&](const int k) {
+      const int gx = x0 - R + k % SW, gy = y0 - R + k / SW;
+      const bool in = gx >= 0 && gy >= 0 && gx < w && gy < h;
+      sd(k) = in ? depth(gy * w + gx) : 0.0f;
+      sa(k) = in ? raw(gy * w + gx) : 1.0f;
+    });
+    t.team_barrier();
+    // Rows: every row of the apron'd tile, the tile's columns.
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(t, TW * SH), [&](const int k) {
+      const int r = k / TW, c = k % TW;
+      const float d = sd(r * SW + c + R);
+      if (!(d > 0.0f)) {
+        sm(k) = 1.0f;
+        return;
+      }
+      const float invTol = 1.0f / (0.05f * d);
+      float sum = 0.0f, wsum = 0.0f;
+      for (int dx = -R; dx <= R; ++dx) {
+        const float dj = sd(r * SW + c + R + dx);
+        if (!(dj > 0.0f)) continue;
+        const float wt = depthWeight(d, dj, invTol);
+        sum += sa(r * SW + c + R + dx) * wt;
+        wsum += wt;
+      }
+      sm(k) = sum / wsum;
+    });
+    t.team_barrier();
+    // Columns, then the film.
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(t, TW * TH), [&](const int k) {
+      const int r = k / TW, c = k % TW, gx = x0 + c, gy = y0 + r;
+      if (gx >= w || gy >= h) return;
+      const int i = gy * w + gx;
+      const float d = sd((r + R) * SW + c + R);
+      if (!(d > 0.0f)) {
+        out(i) = 1.0f;
+        return;
+      }
+      const float invTol = 1.0f / (0.05f * d);
+      float sum = 0.0f, wsum = 0.0f;
+      for (int dy = -R; dy <= R; ++dy) {
+        const float dj = sd((r + R + dy) * SW + c + R);
+        if (!(dj > 0.0f)) continue;
+        const float wt = depthWeight(d, dj, invTol);
+        sum += sm((r + R + dy) * TW + c) * wt;
+        wsum += wt;
+      }
+      const float o = sum / wsum;
+      out(i) = o;
+      const float4 cl = hdr(i);
+      hdr(i) = float4{cl.x * o, cl.y * o, cl.z * o, cl.w};
+    });
   });
 }
 
