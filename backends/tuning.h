@@ -57,5 +57,9 @@ constexpr uint32_t kAutoStatsEvery = 8;
 // run, so neighbouring pixels of one triangle pay for them once; a GPU shades
 // one pixel per thread (neighbouring threads then read neighbouring keys).
 constexpr int32_t kShadeRun = kOnDevice ? 1 : 64;
+// The per-pixel shade kernel's launch bounds on GPUs: {threads per block, blocks
+// per multiprocessor}; {256, 2} caps it at 128 registers a thread on NVIDIA's
+// 64K-register multiprocessors. Ignored by host backends.
+constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
 
 }  // namespace rast

@@ -39,7 +39,12 @@ void launchShade(const Shade& k, int samples, const Range& items) {
       return;
     }
   }
-  Kokkos::parallel_for("rast::shade", lightweight(items), k);
+  // On a GPU the fragment shader keeps one triangle's data (TriFrag) live:
+  // unbounded, ptxas gives it 166 registers a thread, too few warps to hide the
+  // loads of a latency-bound kernel. kShadeLaunchBounds caps that (host
+  // backends ignore launch bounds).
+  using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;
+  Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), k);
 }
 
 // The fused binned raster's sink: a finished tile's rows shaded at once.
