@@ -6,7 +6,7 @@
 // visibility buffer written and read back.
 #pragma once
 
-#include "cpu_clones.h"
+#include "../backends/cpu_clones.h"
 #include "frame_buffers.h"
 #include "raster_common.h"
 

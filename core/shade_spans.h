@@ -14,7 +14,7 @@
 // shader (see usable()).
 #pragma once
 
-#include "cpu_clones.h"
+#include "../backends/cpu_clones.h"
 #include "shade_fragment.h"
 
 namespace rast {

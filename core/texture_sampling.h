@@ -3,6 +3,7 @@
 // sRGB textures.
 #pragma once
 
+#include "../backends/fast_floor.h"
 #include "color.h"
 #include "gpu_types.h"
 #include "scene.h"
@@ -20,21 +21,6 @@ KOKKOS_INLINE_FUNCTION int32_t wrapIndex(int32_t i, int32_t n, int32_t mode) {
   }
   int32_t m = i % n;
   return m < 0 ? m + n : m;
-}
-
-// floorf on the device; on the host the same value without a call into libm
-// (the baseline x86-64 build has no rounding instruction, and four calls per
-// bilinear sample were a good part of a textured span's cost). Integral
-// magnitudes (from 2^23 up), infinities and NaN are their own floor; zero's
-// sign may differ from floorf's, which no use below can see.
-KOKKOS_INLINE_FUNCTION float floorTexel(float x) {
-#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
-  return ::floorf(x);
-#else
-  if (!(x > -8388608.0f && x < 8388608.0f)) return x;
-  const float t = float(int32_t(x));  // towards zero
-  return t > x ? t - 1.0f : t;
-#endif
 }
 
 // Brings a texture coordinate into a range where integer texel indices cannot
