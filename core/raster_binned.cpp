@@ -86,11 +86,9 @@ struct FineRaster {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, kTilePixels * S), [&](const int p) { depth(p) = kClearKey; });
     m.team_barrier();
 
-    const uint32_t total = counters(kRasterWork) < capacity ? counters(kRasterWork) : capacity;
-    const uint32_t begin = tileStart(tile) < total ? tileStart(tile) : total;
-    const uint32_t end = tileStart(tile + 1) < total ? tileStart(tile + 1) : total;
+    const TileEntries te = tileEntries(tileStart, counters, capacity, tile);
     const int nThreads = m.team_size(), me = m.team_rank();
-    for (uint32_t k = begin; k < end; ++k) {
+    for (uint32_t k = te.begin; k < te.end; ++k) {
       const uint32_t i = list(k);
       const RasterTri& t = tris(i);
       const int32_t x0 = imax(t.minX, tx0), x1 = imin(t.maxX, tx0 + kTileSize - 1);

@@ -23,6 +23,20 @@ struct BinGeometry {
   KOKKOS_INLINE_FUNCTION uint32_t numTiles() const { return uint32_t(tilesX) * uint32_t(tilesY); }
 };
 
+// The entries [begin, end) of `tile`'s list in the binned work array,
+// clamped to the entries binning wrote: a frame that overflowed the array
+// (counters(kRasterWork) > capacity) keeps what fit, and grows for the next.
+struct TileEntries {
+  uint32_t begin, end;
+};
+KOKKOS_INLINE_FUNCTION TileEntries tileEntries(const DView<uint32_t>& tileStart, const DView<uint32_t>& counters,
+                                               uint32_t capacity, uint32_t tile) {
+  const uint32_t total = counters(kRasterWork) < capacity ? counters(kRasterWork) : capacity;
+  const uint32_t begin = tileStart(tile) < total ? tileStart(tile) : total;
+  const uint32_t end = tileStart(tile + 1) < total ? tileStart(tile + 1) : total;
+  return {begin, end};
+}
+
 // Bins the raster triangles to tiles: f.tileStart, f.work (the lists) and
 // f.counters(kRasterWork).
 BinGeometry binTriangles(FrameBuffers& f);
@@ -100,10 +114,8 @@ struct FineRasterHost {
       zb[p] = uint32_t(kClearKey >> 32);
       ib[p] = 0;
     }
-    const uint32_t total = counters(kRasterWork) < capacity ? counters(kRasterWork) : capacity;
-    const uint32_t begin = tileStart(tile) < total ? tileStart(tile) : total;
-    const uint32_t end = tileStart(tile + 1) < total ? tileStart(tile + 1) : total;
-    for (uint32_t k = begin; k < end; ++k) {
+    const TileEntries te = tileEntries(tileStart, counters, capacity, tile);
+    for (uint32_t k = te.begin; k < te.end; ++k) {
       const uint32_t i = list(k);
       const RasterTri& t = tris(i);
       const int32_t x0 = imax(t.minX, tx0), x1 = imin(t.maxX, tx0 + kTileSize - 1);
