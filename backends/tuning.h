@@ -63,6 +63,10 @@ constexpr uint32_t kAutoStatsEvery = 8;
 // (A CPU takes that layout only when a run of 1 is asked for, as the tests do.)
 constexpr int32_t kShadeRun = kOnDevice ? 1 : 64;
 constexpr int32_t kShadeInterleave = 4;
+// Raster: pixels of a row whose visibility keys one thread reads together
+// before testing them (rasterRect): the 8 of a row of an 8x8 block on a GPU.
+// CPUs group the same way (their usual method, binned, has its own loop).
+constexpr int kRasterRowGroup = 8;
 // The per-pixel shade kernel's launch bounds on GPUs: {threads per block, blocks
 // per multiprocessor}; {256, 2} caps it at 128 registers a thread on NVIDIA's
 // 64K-register multiprocessors. Ignored by host backends.

@@ -8,6 +8,7 @@
 // both cover nor both miss a pixel on it.
 #pragma once
 
+#include "../backends/tuning.h"
 #include "clip.h"
 #include "depth_plane.h"
 #include "gpu_types.h"
@@ -204,8 +205,13 @@ constexpr uint64_t kClearKey = uint64_t(0x3f800000u) << 32;  // depth 1.0, no tr
 // Edge values step incrementally along a row: exact, since they are integers.
 // With several samples per pixel the buffer holds `count` keys per pixel, and
 // each sample follows the same rules at its own position.
-// Returns the number of pixels the triangle covers there (samples: 0).
-KOKKOS_INLINE_FUNCTION uint32_t rasterRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0, int32_t x1,
+// What rasterRect saw (single sample only): the pixels the triangle covers,
+// and a bound on the depth bits of every pixel of the rectangle after it, from
+// the keys it read and its own (keys only ever decrease).
+struct RectResult {
+  uint32_t covered = 0, maxDepthBits = 0;
+};
+KOKKOS_INLINE_FUNCTION RectResult rasterRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0, int32_t x1,
                                            int32_t y0, int32_t y1, uint64_t* vis, int32_t width, const SamplePattern& sp) {
   if (sp.count > 1) {
     for (int32_t y = y0; y <= y1; ++y) {
@@ -225,26 +231,40 @@ KOKKOS_INLINE_FUNCTION uint32_t rasterRect(const RasterTri& t, const Edges& e, u
         e2 += e.A[2];
       }
     }
-    return 0;
+    return RectResult{};
   }
-  uint32_t covered = 0;
+  // Rows go in groups of kRasterRowGroup pixels whose keys are read together
+  // before any is tested: on a GPU each read is a trip to L2 or memory, and
+  // one at a time they left a thread waiting once per pixel.
+  RectResult res;
   for (int32_t y = y0; y <= y1; ++y) {
     int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
     uint64_t* row = vis + int64_t(y) * width;
-    for (int32_t x = x0; x <= x1; ++x) {
-      if (e.inside(e0, e1, e2)) {
-        const uint64_t key = visKey(depthAt(t, e0, e1, e2), index);
-        // The plain read only skips atomics that could not win; the atomic
-        // minimum alone decides, so the result is independent of ordering.
-        if (key < row[x]) Kokkos::atomic_fetch_min(&row[x], key);
-        ++covered;
+    for (int32_t xs = x0; xs <= x1; xs += kRasterRowGroup) {
+      uint64_t cur[kRasterRowGroup];
+      for (int k = 0; k < kRasterRowGroup; ++k) cur[k] = xs + k <= x1 ? row[xs + k] : 0u;
+      for (int k = 0; k < kRasterRowGroup; ++k) {
+        if (xs + k > x1) break;
+        uint64_t after = cur[k];
+        if (e.inside(e0, e1, e2)) {
+          const uint64_t key = visKey(depthAt(t, e0, e1, e2), index);
+          // The plain read only skips atomics that could not win; the atomic
+          // minimum alone decides, so the result is independent of ordering.
+          if (key < cur[k]) {
+            Kokkos::atomic_fetch_min(&row[xs + k], key);
+            after = key;
+          }
+          ++res.covered;
+        }
+        const uint32_t bits = uint32_t(after >> 32);
+        res.maxDepthBits = bits > res.maxDepthBits ? bits : res.maxDepthBits;
+        e0 += e.A[0];
+        e1 += e.A[1];
+        e2 += e.A[2];
       }
-      e0 += e.A[0];
-      e1 += e.A[1];
-      e2 += e.A[2];
     }
   }
-  return covered;
+  return res;
 }
 
 }  // namespace rast

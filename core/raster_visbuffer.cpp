@@ -8,11 +8,13 @@
 // Seen from inside a dense model, most (triangle, block) items lie behind
 // walls drawn earlier. Each 8x8 block keeps a bound on the depth of all its
 // pixels (f.blockDepth, float bits): an item whose triangle cannot come
-// nearer than the bound is skipped whole, and an item that covers its block
-// completely lowers the bound to the triangle's farthest depth. The bound
-// only ever holds for every pixel, so a skipped item is one whose every
-// fragment would lose its depth test: the keys are those of the full pass,
-// whatever the order items run in. (Single-sample frames only.)
+// nearer than the bound is skipped whole. An item whose rectangle is the whole
+// block lowers the bound to the farthest depth it left there, from the keys
+// it read and its own (keys only decrease, so that holds from then on): the
+// block's bound tightens as triangles fill it, not only when one covers it.
+// The bound only ever holds for every pixel, so a skipped item is one whose
+// every fragment would lose its depth test: the keys are those of the full
+// pass, whatever the order items run in. (Single-sample frames only.)
 #include "raster_common.h"
 #include "stages.h"
 
@@ -81,8 +83,10 @@ struct RasterBlocks {
       const uint32_t b = uint32_t(by) * uint32_t(blocksPerRow) + uint32_t(bx);
       const DepthBounds z = depthBounds(t);
       if (floatBits(z.lo) > blockDepth(b)) continue;  // behind every pixel of the block
-      const uint32_t covered = rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
-      if (covered == (1u << (2 * kBlockShift))) Kokkos::atomic_fetch_min(&blockDepth(b), floatBits(z.hi));
+      const RectResult r = rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
+      // Whole blocks only: the bound must hold for all 64 pixels.
+      const bool whole = x1 - x0 == (1 << kBlockShift) - 1 && y1 - y0 == (1 << kBlockShift) - 1;
+      if (whole && r.maxDepthBits < blockDepth(b)) Kokkos::atomic_fetch_min(&blockDepth(b), r.maxDepthBits);
     }
   }
 };

@@ -69,7 +69,7 @@ struct Shade {
   int32_t run, runsPerRow;  // pixels per work item along a row (kShadeRun), work items per row
   int32_t clearVis = 0;     // write kClearKey over every sample once read (FrameBuffers::visClear)
   int32_t height = 0;
-  int32_t interleaved = 0;  // GPU layout of work items (shadeInterleaved) instead of runs along rows
+  int32_t interleaved = 0;  // GPU layout of work items (ShadeInterleaved) instead of runs along rows
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
     const float zn = 2.0f * d - 1.0f;
@@ -255,10 +255,6 @@ struct Shade {
   // are found in 32-bit arithmetic: a 64-bit division is a long software
   // routine on GPUs, paid once per pixel there.
   KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
-    if (interleaved) {
-      shadeInterleaved(uint32_t(item));
-      return;
-    }
     const uint32_t it = uint32_t(item), rows = uint32_t(runsPerRow);
     const int32_t Y = int32_t(it / rows);
     const int32_t x0 = int32_t(it - uint32_t(Y) * rows) * run;
@@ -311,8 +307,9 @@ struct Shade {
   // One sample per pixel, its key already loaded.
   KOKKOS_INLINE_FUNCTION void shadeSingle(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f,
                                           const uint64_t key0) const {
-    // The next frame's clear, while the key is at hand (FrameBuffers::visClear).
-    if (clearVis) vis(i) = kClearKey;
+    // The next frame's clear, while the key is at hand (FrameBuffers::visClear);
+    // background keys are clear already, and an empty pixel costs no store.
+    if (clearVis && key0 != kClearKey) vis(i) = kClearKey;
     writeIds(i, key0);
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
@@ -377,6 +374,14 @@ struct Shade {
     if (p.wantNormals) normalOut(i) = n0;
     if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
   }
+};
+
+// The interleaved layout as a kernel of its own: compiled into one kernel with
+// the runs along rows, the shader spilled 400 bytes a thread under the register
+// cap (152 alone).
+struct ShadeInterleaved {
+  Shade k;
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const { k.shadeInterleaved(uint32_t(item)); }
 };
 
 }  // namespace shading

@@ -47,7 +47,10 @@ bool launchShade(Shade k, int samples, const Range& items) {
   // loads of a latency-bound kernel. kShadeLaunchBounds caps that (host
   // backends ignore launch bounds).
   using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;
-  Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), k);
+  if (k.interleaved)
+    Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), shading::ShadeInterleaved{k});
+  else
+    Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), k);
   return true;
 }
 
