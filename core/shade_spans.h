@@ -21,6 +21,13 @@ namespace rast {
 namespace shading {
 
 constexpr int kMaxSpanRun = 64;  // longest run a ShadeSpans work item takes
+// The arithmetic loops run over whole blocks of this many pixels (past the
+// span's end into the spare room of its arrays, extrapolating the plane;
+// nothing past the end is stored outside them): a short span then still runs
+// as one or two full vectors instead of a scalar remainder loop.
+constexpr int kSpanBlock = 8;
+static_assert(kMaxSpanRun % kSpanBlock == 0, "span arrays hold whole blocks");
+KOKKOS_INLINE_FUNCTION int32_t spanBlocks(int32_t m) { return (m + kSpanBlock - 1) & ~(kSpanBlock - 1); }
 
 // What spanLighting needs of a span's triangle, the camera and the light.
 struct SpanConsts {
@@ -34,12 +41,13 @@ struct SpanConsts {
 
 // The arithmetic of a span, as loops over its pixels that the compiler
 // vectorizes (also for AVX2: cpu_clones.h).
-KOKKOS_INLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
+KOKKOS_FORCEINLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
                                      float* __restrict__ ny, float* __restrict__ nz, float* __restrict__ diffuse) {
   // The edge values step in double, exactly (integers below 2^53), and
   // float(double(e)) rounds as float(e) does, so the weights are
   // bit-identical; unlike int64 -> float, double -> float conversion vectorizes.
-  for (int32_t j = 0; j < m; ++j) {
+  const int32_t mb = spanBlocks(m);
+  for (int32_t j = 0; j < mb; ++j) {
     b0[j] = float(k.s1 + k.a1 * double(j)) * k.ia;
     b1[j] = float(k.s2 + k.a2 * double(j)) * k.ia;
     b2[j] = float(k.s0 + k.a0 * double(j)) * k.ia;
@@ -48,7 +56,7 @@ KOKKOS_INLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* 
   const float t00 = k.t00, t10 = k.t10, t20 = k.t20, t01 = k.t01, t11 = k.t11, t21 = k.t21;
   const float3 n0 = k.n0, n1 = k.n1, n2 = k.n2, q0 = k.q0, q1 = k.q1, q2 = k.q2, eye = k.eye;
   const float ambient = k.ambient, headI = k.headI, third = 1.0f / 3.0f;
-    for (int32_t j = 0; j < m; ++j) {
+    for (int32_t j = 0; j < mb; ++j) {
       float w0 = b0[j] * iw0, w1 = b1[j] * iw1, w2 = b2[j] * iw2;
       const float sum = w0 + w1 + w2;
       const bool ok = (sum != 0.0f) & (sum - sum == 0.0f);  // nonzero and finite (isFinite); no branch
@@ -93,21 +101,184 @@ RAST_CPU_CLONES void spanLightingWide(const SpanConsts& k, int32_t m, float* __r
   spanLighting(k, m, b0, b1, b2, nx, ny, nz, diffuse);
 }
 
-// A span's colours, lit and packed as sRGB RGBA8 (Shade::display of
-// shadeFragment's rgb * diffuse + spec, spec being 0 in Lambert).
-KOKKOS_INLINE_FUNCTION void packSpan(int32_t m, const float4* __restrict__ base, const float* __restrict__ diffuse,
-                                     const float* __restrict__ table, uint32_t* __restrict__ dst) {
-  for (int32_t j = 0; j < m; ++j) {
+// A span's colours (r, g, b, a: the base colour), lit and packed as sRGB
+// RGBA8 (Shade::display of shadeFragment's rgb * diffuse + spec, spec being 0
+// in Lambert).
+KOKKOS_FORCEINLINE_FUNCTION void packSpan(int32_t m, const float* __restrict__ r, const float* __restrict__ g,
+                                     const float* __restrict__ b, const float* __restrict__ a,
+                                     const float* __restrict__ diffuse, const float* __restrict__ table,
+                                     uint32_t* __restrict__ dst) {
+  uint32_t packed[kMaxSpanRun];
+  const int32_t mb = spanBlocks(m);
+  for (int32_t j = 0; j < mb; ++j) {
     const float d = diffuse[j];
-    const float a = clamp01(base[j].w) * 255.0f + 0.5f;  // unorm8, in [0.5, 255.5]: int conversion is exact
-    dst[j] = encodeSrgb8Flat(base[j].x * d + 0.0f, table) | encodeSrgb8Flat(base[j].y * d + 0.0f, table) << 8 |
-             encodeSrgb8Flat(base[j].z * d + 0.0f, table) << 16 | uint32_t(int32_t(a)) << 24;
+    const float al = clamp01(a[j]) * 255.0f + 0.5f;  // unorm8, in [0.5, 255.5]: int conversion is exact
+    packed[j] = encodeSrgb8Flat(r[j] * d + 0.0f, table) | encodeSrgb8Flat(g[j] * d + 0.0f, table) << 8 |
+                encodeSrgb8Flat(b[j] * d + 0.0f, table) << 16 | uint32_t(int32_t(al)) << 24;
+  }
+  for (int32_t j = 0; j < m; ++j) dst[j] = packed[j];  // the span only
+}
+RAST_CPU_CLONES void packSpanWide(int32_t m, const float* __restrict__ r, const float* __restrict__ g,
+                                  const float* __restrict__ b, const float* __restrict__ a,
+                                  const float* __restrict__ diffuse, const float* __restrict__ table,
+                                  uint32_t* __restrict__ dst) {
+  packSpan(m, r, g, b, a, diffuse, table, dst);
+}
+
+// Bilinear texturing of a span (Shade::shadeFragment's uvAt and
+// sampleBilinear, the same float operations in the same order), in two loops
+// the compiler vectorizes: where each pixel's four texels are and their
+// weights, then the fetches (gathers with AVX2), sRGB decoding and blend.
+struct SpanTex {
+  const uint32_t* texels;  // the texture's level 0
+  const float* lut;        // sRGB byte -> linear
+  int32_t width, height, wrapS, wrapT;
+  float u0, u1, u2, v0, v1, v2;  // the drawn vertices' texture coordinates
+  int32_t indexable;             // fewer than 2^31 texels: int32 indices (else: per pixel)
+};
+
+// Float selects on the bits: GCC turns float ?: into branches that its
+// if-conversion then refuses, so that a loop of them does not vectorize.
+KOKKOS_FORCEINLINE_FUNCTION float selectFloat(bool c, float a, float b) {
+  const uint32_t mask = 0u - uint32_t(c);
+  return bitsFloat((floatBits(a) & mask) | (floatBits(b) & ~mask));
+}
+
+// floorTexel (the host's) without branches: the same value for every input.
+// Magnitudes from 2^23 up, infinities and NaN are their own floor; the
+// conversion sees +0 for them.
+KOKKOS_FORCEINLINE_FUNCTION float floorTexelFlat(float x) {
+  const bool small = (floatBits(x) & 0x7fffffffu) < 0x4b000000u;  // |x| < 2^23
+  const float xs = selectFloat(small, x, 0.0f);
+  const float t = float(int32_t(xs));  // towards zero
+  const float f = t - selectFloat(t > xs, 1.0f, 0.0f);  // t - 0 is t (t is never -0)
+  return selectFloat(small, f, x);
+}
+
+// reduceCoord without branches.
+KOKKOS_FORCEINLINE_FUNCTION float reduceCoordFlat(float u, int32_t mode) {
+  const float clamped = selectFloat(u < -1.0f, -1.0f, selectFloat(u > 2.0f, 2.0f, u));
+  const float periodic = u - 2.0f * floorTexelFlat(u * 0.5f);
+  return selectFloat(isFinite(u), mode == WrapClamp ? clamped : periodic, 0.0f);
+}
+
+// wrapIndex without branches or division, for the indices reduceCoordFlat's
+// coordinates give (repeat and mirror: within [-1, 2n]); `bad` is set where i
+// lies outside the range where these forms equal wrapIndex (then the caller
+// samples per pixel).
+KOKKOS_FORCEINLINE_FUNCTION int32_t wrapIndexFlat(int32_t i, int32_t n, int32_t mode, int32_t& bad) {
+  const int32_t c = i < 0 ? 0 : (i >= n ? n - 1 : i);
+  int32_t r = i < 0 ? i + n : i;  // repeat, for i in [-n, 3n)
+  r = r >= n ? r - n : r;
+  r = r >= n ? r - n : r;
+  const int32_t p2 = 2 * n;
+  int32_t q = i < 0 ? i + p2 : i;  // mirror, for i in [-2n, 4n)
+  q = q >= p2 ? q - p2 : q;
+  q = q < n ? q : p2 - 1 - q;
+  bad |= (mode != WrapClamp) & ((i < -n) | (i >= 3 * n));
+  return mode == WrapClamp ? c : (mode == WrapMirror ? q : r);
+}
+
+// One pixel of bilinearSetup; kRepeat: both wrap modes are repeat (the
+// common case: the other modes' selects are left out).
+template <bool kRepeat>
+KOKKOS_FORCEINLINE_FUNCTION void bilinearPixel(const SpanTex& t, int32_t j, const float* __restrict__ b0,
+                                          const float* __restrict__ b1, const float* __restrict__ b2,
+                                          int32_t* __restrict__ i00, int32_t* __restrict__ i10,
+                                          int32_t* __restrict__ i01, int32_t* __restrict__ i11,
+                                          float* __restrict__ fa, float* __restrict__ fb, int32_t& bad) {
+  const int32_t w = t.width, h = t.height, ws = kRepeat ? int32_t(WrapRepeat) : t.wrapS,
+                wt = kRepeat ? int32_t(WrapRepeat) : t.wrapT;
+  const float u = t.u0 * b0[j] + t.u1 * b1[j] + t.u2 * b2[j], v = t.v0 * b0[j] + t.v1 * b1[j] + t.v2 * b2[j];  // uvAt
+  const float fu = reduceCoordFlat(u, ws) * float(w) - 0.5f, fv = reduceCoordFlat(v, wt) * float(h) - 0.5f;
+  const float flu = floorTexelFlat(fu), flv = floorTexelFlat(fv);
+  fa[j] = fu - flu;
+  fb[j] = fv - flv;
+  const int32_t x0 = int32_t(flu), y0 = int32_t(flv);
+  const uint32_t xa = uint32_t(wrapIndexFlat(x0, w, ws, bad)), xb = uint32_t(wrapIndexFlat(x0 + 1, w, ws, bad));
+  const uint32_t ya = uint32_t(wrapIndexFlat(y0, h, wt, bad)), yb = uint32_t(wrapIndexFlat(y0 + 1, h, wt, bad));
+  // below 2^31: a texture's texels are counted in int32 (DeviceScene); signed
+  // indices let AVX2 gather them
+  i00[j] = int32_t(ya * uint32_t(w) + xa);
+  i10[j] = int32_t(ya * uint32_t(w) + xb);
+  i01[j] = int32_t(yb * uint32_t(w) + xa);
+  i11[j] = int32_t(yb * uint32_t(w) + xb);
+}
+
+// Texel indices (i00 .. i11, from the texture's first texel) and the weights'
+// fractions (fa, fb) of a span's pixels, in whole blocks; returns nonzero if
+// some index is outside what wrapIndexFlat covers.
+KOKKOS_FORCEINLINE_FUNCTION int32_t bilinearSetup(const SpanTex& tr, int32_t m, const float* __restrict__ b0,
+                                             const float* __restrict__ b1, const float* __restrict__ b2,
+                                             int32_t* __restrict__ i00, int32_t* __restrict__ i10,
+                                             int32_t* __restrict__ i01, int32_t* __restrict__ i11,
+                                             float* __restrict__ fa, float* __restrict__ fb) {
+  const SpanTex t = tr;  // a local copy: its fields stay in registers across the loop
+  const int32_t mb = spanBlocks(m);
+  int32_t bad = 0;
+  if (t.wrapS == WrapRepeat && t.wrapT == WrapRepeat) {
+    for (int32_t j = 0; j < mb; ++j) bilinearPixel<true>(t, j, b0, b1, b2, i00, i10, i01, i11, fa, fb, bad);
+  } else {
+    for (int32_t j = 0; j < mb; ++j) bilinearPixel<false>(t, j, b0, b1, b2, i00, i10, i01, i11, fa, fb, bad);
+  }
+  return bad;
+}
+RAST_CPU_CLONES int32_t bilinearSetupWide(const SpanTex& t, int32_t m, const float* __restrict__ b0,
+                                          const float* __restrict__ b1, const float* __restrict__ b2,
+                                          int32_t* __restrict__ i00, int32_t* __restrict__ i10,
+                                          int32_t* __restrict__ i01, int32_t* __restrict__ i11,
+                                          float* __restrict__ fa, float* __restrict__ fb) {
+  return bilinearSetup(t, m, b0, b1, b2, i00, i10, i01, i11, fa, fb);
+}
+
+// The four texels of each pixel, decoded and blended as sampleBilinear does,
+// times the base colour (r, g, b, a: base * texture).
+KOKKOS_FORCEINLINE_FUNCTION void bilinearBlend(const uint32_t* __restrict__ tx, const float* __restrict__ lut, int32_t m,
+                                          const int32_t* __restrict__ i00, const int32_t* __restrict__ i10,
+                                          const int32_t* __restrict__ i01, const int32_t* __restrict__ i11,
+                                          const float* __restrict__ fa, const float* __restrict__ fb,
+                                          float* __restrict__ r, float* __restrict__ g, float* __restrict__ b,
+                                          float* __restrict__ a) {
+  const int32_t mb = spanBlocks(m);
+  for (int32_t j = 0; j < mb; ++j) {
+    const uint32_t c00 = tx[i00[j]], c10 = tx[i10[j]], c01 = tx[i01[j]], c11 = tx[i11[j]];
+    const float A = fa[j], B = fb[j];
+    const float w00 = (1.0f - A) * (1.0f - B), w10 = A * (1.0f - B), w01 = (1.0f - A) * B, w11 = A * B;
+    r[j] = r[j] * ((lut[int32_t(c00 & 0xff)] * w00 + lut[int32_t(c10 & 0xff)] * w10) + (lut[int32_t(c01 & 0xff)] * w01 + lut[int32_t(c11 & 0xff)] * w11));
+    g[j] = g[j] * ((lut[int32_t((c00 >> 8) & 0xff)] * w00 + lut[int32_t((c10 >> 8) & 0xff)] * w10) +
+                   (lut[int32_t((c01 >> 8) & 0xff)] * w01 + lut[int32_t((c11 >> 8) & 0xff)] * w11));
+    b[j] = b[j] * ((lut[int32_t((c00 >> 16) & 0xff)] * w00 + lut[int32_t((c10 >> 16) & 0xff)] * w10) +
+                   (lut[int32_t((c01 >> 16) & 0xff)] * w01 + lut[int32_t((c11 >> 16) & 0xff)] * w11));
+    // unpackSrgb8's alpha, float(c >> 24) / 255 (below 256: the int conversion is the same)
+    const float a00 = float(int32_t(c00 >> 24)) * (1.0f / 255.0f), a10 = float(int32_t(c10 >> 24)) * (1.0f / 255.0f);
+    const float a01 = float(int32_t(c01 >> 24)) * (1.0f / 255.0f), a11 = float(int32_t(c11 >> 24)) * (1.0f / 255.0f);
+    a[j] = a[j] * ((a00 * w00 + a10 * w10) + (a01 * w01 + a11 * w11));
   }
 }
-RAST_CPU_CLONES void packSpanWide(int32_t m, const float4* __restrict__ base, const float* __restrict__ diffuse,
-                                  const float* __restrict__ table, uint32_t* __restrict__ dst) {
-  packSpan(m, base, diffuse, table, dst);
+RAST_CPU_CLONES void bilinearBlendWide(const uint32_t* __restrict__ tx, const float* __restrict__ lut, int32_t m,
+                                       const int32_t* __restrict__ i00, const int32_t* __restrict__ i10,
+                                       const int32_t* __restrict__ i01, const int32_t* __restrict__ i11,
+                                       const float* __restrict__ fa, const float* __restrict__ fb,
+                                       float* __restrict__ r, float* __restrict__ g, float* __restrict__ b,
+                                       float* __restrict__ a) {
+  bilinearBlend(tx, lut, m, i00, i10, i01, i11, fa, fb, r, g, b, a);
 }
+
+// What a span needs of its triangle, looked up and computed once per
+// triangle (Shade::prepare, then the triangle's constants of spanLighting and
+// of the texture) and kept in a small cache while a tile or run is shaded:
+// rows of a tile alternate between the same few triangles.
+struct SpanTri {
+  TriFrag f;
+  SpanConsts k;  // all but the span's edge values s0, s1, s2
+  SpanTex tex;
+};
+
+struct SpanTriCache {
+  static constexpr int kSlots = 4;
+  SpanTri slot[kSlots];
+  int next = 0;
+};
 
 struct ShadeSpans : Shade {
   // Whether this kernel covers a frame of these settings.
@@ -132,63 +303,36 @@ struct ShadeSpans : Shade {
       idx[j] = uint32_t(key & 0xffffffffu);
       depthBits[j] = uint32_t(key >> 32);
     }
-    shadeRow(x0, Y, n, idx, depthBits);
+    SpanTriCache cache;
+    shadeRow(x0, Y, n, idx, depthBits, cache);
   }
 
-  // Pixels [x0, x0 + n) of row Y, given the visibility keys' halves: raster
-  // index + 1 (0: none) and depth bits. Also called by the fused binned
-  // raster (shade_stage.cpp) with a finished tile's rows.
-  KOKKOS_INLINE_FUNCTION void shadeRow(int32_t x0, int32_t Y, int32_t n, const uint32_t* idx,
-                                       const uint32_t* depthBits) const {
-    const int64_t row = int64_t(Y) * width + x0;
-    if (p.wantDepth)
-      for (int32_t j = 0; j < n; ++j) depthOut(row + j) = bitsFloat(depthBits[j]);
-    if (p.wantPrimId)
-      for (int32_t j = 0; j < n; ++j) {
-        const uint32_t id = idx[j];
-        primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
-      }
-    TriFrag f;
-    for (int32_t j = 0; j < n;) {
-      const uint32_t id = idx[j];
-      int32_t k = j + 1;
-      while (k < n && idx[k] == id) ++k;
-      if (id == 0) {
-        if (p.floatOut) {
-          for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
-        } else {
-          uint32_t* const dst = color.data() + row;  // a plain fill the compiler vectorizes
-          const uint32_t bg = p.backgroundPacked;
-          for (int32_t m = j; m < k; ++m) dst[m] = bg;
-        }
-      } else {
-        use(id - 1, f);
-        if ((id - 1) & kLineFlag) {
-          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(f, x0 + m, Y, 0, 0, 0.0f, nullptr));
-        } else {
-          span(f, row + j, x0 + j, Y, k - j);
-        }
-      }
-      j = k;
-    }
+  // The rows of a finished tile of the fused binned raster (shade_stage.cpp):
+  // w x h pixels from (tx0, ty0), ids (raster index + 1) and depth bits in
+  // rows of `stride`.
+  KOKKOS_INLINE_FUNCTION void shadeTile(int32_t tx0, int32_t ty0, int32_t w, int32_t h, int32_t stride,
+                                        const uint32_t* ib, const uint32_t* zb) const {
+    SpanTriCache cache;
+    for (int32_t r = 0; r < h; ++r) shadeRow(tx0, ty0 + r, w, ib + r * stride, zb + r * stride, cache);
   }
 
-  // Pixels [xa, xa + m) of row Y, all of f's triangle (a raster triangle).
-  KOKKOS_INLINE_FUNCTION void span(const TriFrag& f, int64_t out, int32_t xa, int32_t Y, int32_t m) const {
+  // The cached SpanTri of raster triangle `index`, prepared on a miss.
+  KOKKOS_INLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c) const {
+    for (int s = 0; s < SpanTriCache::kSlots; ++s)
+      if (c.slot[s].f.index == index) return c.slot[s];
+    SpanTri& st = c.slot[c.next];
+    c.next = c.next + 1 < SpanTriCache::kSlots ? c.next + 1 : 0;
+    prepare(index, st.f);
+    if (!(index & kLineFlag)) prepareSpan(st);
+    return st;
+  }
+
+  // The per-triangle part of span(): spanLighting's constants and the texture's.
+  KOKKOS_INLINE_FUNCTION void prepareSpan(SpanTri& st) const {
+    const TriFrag& f = st.f;
     const RasterTri& t = *f.t;
     const Edges& e = f.e;
-    float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
-    float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
-    float diffuse[kMaxSpanRun];
-    float4 base[kMaxSpanRun];
-    // Screen-space weights from the exact edge values (as Shade::bary: l0 from
-    // edge 1, l1 from edge 2, l2 from edge 0), then the perspective-correct
-    // weights in the drawn triangle, the normal, the position and the
-    // headlight of every pixel (Shade::bary, shadeFragment): spanLighting.
-    SpanConsts k;
-    k.s1 = double(e.eval(1, xa, Y));
-    k.s2 = double(e.eval(2, xa, Y));
-    k.s0 = double(e.eval(0, xa, Y));
+    SpanConsts& k = st.k;
     k.a1 = double(e.A[1]);
     k.a2 = double(e.A[2]);
     k.a0 = double(e.A[0]);
@@ -202,45 +346,153 @@ struct ShadeSpans : Shade {
     k.q0 = f.pos[0]; k.q1 = f.pos[1]; k.q2 = f.pos[2];
     k.eye = p.eye;
     k.ambient = p.ambient;
-    const int headlight = p.headlight;
-    k.headI = headlight ? 1.0f - p.ambient : 0.0f;
-    if (m >= kWideSpan) spanLightingWide(k, m, b0, b1, b2, nx, ny, nz, diffuse);
+    k.headI = p.headlight ? 1.0f - p.ambient : 0.0f;
+    if (f.textured) {
+      SpanTex& x = st.tex;
+      x.texels = texels.data() + f.tex.offset;
+      x.lut = lut.data();
+      x.width = f.tex.width;
+      x.height = f.tex.height;
+      x.wrapS = f.tex.wrapS;
+      x.wrapT = f.tex.wrapT;
+      x.indexable = int64_t(x.width) * int64_t(x.height) < (int64_t(1) << 31);
+      x.u0 = f.uv[0].x; x.u1 = f.uv[1].x; x.u2 = f.uv[2].x;
+      x.v0 = f.uv[0].y; x.v1 = f.uv[1].y; x.v2 = f.uv[2].y;
+    }
+  }
+
+  // End of the run of `id` that starts at j in idx[0, n): four at a time
+  // first (one branch per four pixels of a long run).
+  KOKKOS_INLINE_FUNCTION static int32_t runEnd(const uint32_t* idx, int32_t j, int32_t n, uint32_t id) {
+    int32_t k = j + 1;
+    while (k + 4 <= n && ((idx[k] ^ id) | (idx[k + 1] ^ id) | (idx[k + 2] ^ id) | (idx[k + 3] ^ id)) == 0) k += 4;
+    while (k < n && idx[k] == id) ++k;
+    return k;
+  }
+
+  // Pixels [x0, x0 + n) of row Y, given the visibility keys' halves: raster
+  // index + 1 (0: none) and depth bits.
+  KOKKOS_INLINE_FUNCTION void shadeRow(int32_t x0, int32_t Y, int32_t n, const uint32_t* idx,
+                                       const uint32_t* depthBits, SpanTriCache& cache) const {
+    const int64_t row = int64_t(Y) * width + x0;
+    if (p.wantDepth)
+      for (int32_t j = 0; j < n; ++j) depthOut(row + j) = bitsFloat(depthBits[j]);
+    if (p.wantPrimId)
+      for (int32_t j = 0; j < n; ++j) {
+        const uint32_t id = idx[j];
+        primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
+      }
+    for (int32_t j = 0; j < n;) {
+      const uint32_t id = idx[j];
+      const int32_t k = runEnd(idx, j, n, id);
+      if (id == 0) {
+        if (p.floatOut) {
+          for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
+        } else {
+          uint32_t* const dst = color.data() + row;  // a plain fill the compiler vectorizes
+          const uint32_t bg = p.backgroundPacked;
+          for (int32_t m = j; m < k; ++m) dst[m] = bg;
+        }
+      } else {
+        SpanTri& st = lookup(id - 1, cache);
+        if ((id - 1) & kLineFlag) {
+          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, x0 + m, Y, 0, 0, 0.0f, nullptr));
+        } else {
+          span(st, row + j, x0 + j, Y, k - j);
+        }
+      }
+      j = k;
+    }
+  }
+
+  // Pixels [xa, xa + m) of row Y, all of st's triangle (a raster triangle).
+  KOKKOS_INLINE_FUNCTION void span(SpanTri& st, int64_t out, int32_t xa, int32_t Y, int32_t m) const {
+    const TriFrag& f = st.f;
+    const Edges& e = f.e;
+    float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
+    float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
+    float diffuse[kMaxSpanRun];
+    float br[kMaxSpanRun], bg[kMaxSpanRun], bb[kMaxSpanRun], ba[kMaxSpanRun];  // base colour
+    // Screen-space weights from the exact edge values (as Shade::bary: l0 from
+    // edge 1, l1 from edge 2, l2 from edge 0), then the perspective-correct
+    // weights in the drawn triangle, the normal, the position and the
+    // headlight of every pixel (Shade::bary, shadeFragment): spanLighting.
+    SpanConsts& k = st.k;
+    k.s1 = double(e.eval(1, xa, Y));
+    k.s2 = double(e.eval(2, xa, Y));
+    k.s0 = double(e.eval(0, xa, Y));
+    const bool wide = true;
+    const int32_t mb = spanBlocks(m);  // the loops below fill whole blocks
+    if (wide) spanLightingWide(k, m, b0, b1, b2, nx, ny, nz, diffuse);
     else spanLighting(k, m, b0, b1, b2, nx, ny, nz, diffuse);
-    if (!headlight) {
+    if (!p.headlight) {
       const int nl = int(lights.extent(0));
-      for (int k = 0; k < nl; ++k) {
-        const float3 L = lights(k).direction;
-        const float I = lights(k).intensity;
-        for (int32_t j = 0; j < m; ++j) {
+      for (int l = 0; l < nl; ++l) {
+        const float3 L = lights(l).direction;
+        const float I = lights(l).intensity;
+        for (int32_t j = 0; j < mb; ++j) {
           const float ndl = nx[j] * L.x + ny[j] * L.y + nz[j] * L.z;
           diffuse[j] += I * (ndl > 0.0f ? ndl : 0.0f);
         }
       }
     }
-    // Base colour: material, texture (scalar: texel fetches), vertex colour.
-    for (int32_t j = 0; j < m; ++j) base[j] = f.baseColor;
-    if (f.textured) {
-      for (int32_t j = 0; j < m; ++j) {
-        const float2 uv = uvAt(f, b0[j], b1[j], b2[j]);
-        const float4 tc = p.filter == TexFilter::Nearest ? sampleNearest(f.tex, texels, lut, uv.x, uv.y)
-                                                         : sampleBilinear(f.tex, texels, lut, uv.x, uv.y);
-        base[j] = base[j] * tc;
-      }
+    // Base colour: material, texture, vertex colour.
+    const float4 bc = f.baseColor;
+    for (int32_t j = 0; j < mb; ++j) {
+      br[j] = bc.x;
+      bg[j] = bc.y;
+      bb[j] = bc.z;
+      ba[j] = bc.w;
     }
+    if (f.textured) texture(st, m, b0, b1, b2, br, bg, bb, ba);
     if (hasColor) {
-      for (int32_t j = 0; j < m; ++j)
-        base[j] = base[j] * (f.col[0] * b0[j] + f.col[1] * b1[j] + f.col[2] * b2[j]);
+      const float4 c0 = f.col[0], c1 = f.col[1], c2 = f.col[2];
+      for (int32_t j = 0; j < mb; ++j) {
+        // base * (col0 b0 + col1 b1 + col2 b2), per channel
+        br[j] = br[j] * (c0.x * b0[j] + c1.x * b1[j] + c2.x * b2[j]);
+        bg[j] = bg[j] * (c0.y * b0[j] + c1.y * b1[j] + c2.y * b2[j]);
+        bb[j] = bb[j] * (c0.z * b0[j] + c1.z * b1[j] + c2.z * b2[j]);
+        ba[j] = ba[j] * (c0.w * b0[j] + c1.w * b1[j] + c2.w * b2[j]);
+      }
     }
     if (!p.floatOut) {
       uint32_t* dst = color.data() + out;
-      if (m >= kWideSpan) packSpanWide(m, base, diffuse, encode.data(), dst);
-      else packSpan(m, base, diffuse, encode.data(), dst);
+      if (wide) packSpanWide(m, br, bg, bb, ba, diffuse, encode.data(), dst);
+      else packSpan(m, br, bg, bb, ba, diffuse, encode.data(), dst);
       return;
     }
     for (int32_t j = 0; j < m; ++j) {
       const float d = diffuse[j];
       // rgb * diffuse + spec (0 in Lambert), as shadeFragment adds it
-      hdr(out + j) = float4{base[j].x * d + 0.0f, base[j].y * d + 0.0f, base[j].z * d + 0.0f, base[j].w};
+      hdr(out + j) = float4{br[j] * d + 0.0f, bg[j] * d + 0.0f, bb[j] * d + 0.0f, ba[j]};
+    }
+  }
+
+  // The base colour times the texture at each pixel of the span (weights b0..b2).
+  KOKKOS_INLINE_FUNCTION void texture(const SpanTri& st, int32_t m, const float* b0, const float* b1, const float* b2,
+                                      float* br, float* bg, float* bb, float* ba) const {
+    const TriFrag& f = st.f;
+    if (p.filter != TexFilter::Nearest && st.tex.indexable) {
+      int32_t i00[kMaxSpanRun], i10[kMaxSpanRun], i01[kMaxSpanRun], i11[kMaxSpanRun];
+      float fa[kMaxSpanRun], fb[kMaxSpanRun];
+      const bool wide = true;
+      const SpanTex& x = st.tex;
+      const int32_t bad = wide ? bilinearSetupWide(x, m, b0, b1, b2, i00, i10, i01, i11, fa, fb)
+                               : bilinearSetup(x, m, b0, b1, b2, i00, i10, i01, i11, fa, fb);
+      if (!bad) {
+        if (wide) bilinearBlendWide(x.texels, x.lut, m, i00, i10, i01, i11, fa, fb, br, bg, bb, ba);
+        else bilinearBlend(x.texels, x.lut, m, i00, i10, i01, i11, fa, fb, br, bg, bb, ba);
+        return;
+      }
+    }
+    for (int32_t j = 0; j < m; ++j) {
+      const float2 uv = uvAt(f, b0[j], b1[j], b2[j]);
+      const float4 tc = p.filter == TexFilter::Nearest ? sampleNearest(f.tex, texels, lut, uv.x, uv.y)
+                                                       : sampleBilinear(f.tex, texels, lut, uv.x, uv.y);
+      br[j] = br[j] * tc.x;
+      bg[j] = bg[j] * tc.y;
+      bb[j] = bb[j] * tc.z;
+      ba[j] = ba[j] * tc.w;
     }
   }
 };

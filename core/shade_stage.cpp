@@ -52,7 +52,7 @@ struct ShadeSink {
   shading::ShadeSpans spans;
   KOKKOS_INLINE_FUNCTION void tile(int32_t tx0, int32_t ty0, int32_t w, int32_t h, const uint32_t* zb,
                                    const uint32_t* ib) const {
-    for (int r = 0; r < h; ++r) spans.shadeRow(tx0, ty0 + r, w, ib + r * kTileSize, zb + r * kTileSize);
+    spans.shadeTile(tx0, ty0, w, h, kTileSize, ib, zb);
   }
 };
 
