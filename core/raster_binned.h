@@ -91,8 +91,14 @@ struct FineRasterHost {
       if (c <= 0) hi = -1;
       return;
     }
+    // Only an edge that crosses the row needs the division (the row's far end
+    // tells): most rows of a large triangle are inside all three edges.
     if (A > 0) {
       if (c <= 0) {
+        if (c + A * (n - 1) <= 0) {  // outside over the whole row: d >= n
+          lo = n;
+          return;
+        }
         const int64_t d = (-c) / A + 1;  // smallest d with c + A d > 0
         if (d > lo) lo = d > n ? n : int32_t(d);
       }
@@ -101,6 +107,7 @@ struct FineRasterHost {
         hi = -1;
         return;
       }
+      if (c + A * (n - 1) > 0) return;  // inside over the whole row: d >= n - 1 >= hi
       const int64_t d = (c - 1) / (-A);  // largest d with c + A d > 0
       if (d < hi) hi = int32_t(d);
     }
@@ -109,12 +116,16 @@ struct FineRasterHost {
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t tile) const {
     const int32_t tx0 = int32_t(tile % uint32_t(g.tilesX)) * kTileSize;
     const int32_t ty0 = int32_t(tile / uint32_t(g.tilesX)) * kTileSize;
+    const TileEntries te = tileEntries(tileStart, counters, capacity, tile);
+    if (te.begin == te.end) {  // nothing drawn here (most tiles of a sparse frame): no arrays to clear
+      sink.emptyTile(tx0, ty0, imin(kTileSize, width - tx0), imin(kTileSize, height - ty0));
+      return;
+    }
     uint32_t zb[kTilePixels], ib[kTilePixels];
     for (int p = 0; p < kTilePixels; ++p) {
       zb[p] = uint32_t(kClearKey >> 32);
       ib[p] = 0;
     }
-    const TileEntries te = tileEntries(tileStart, counters, capacity, tile);
     for (uint32_t k = te.begin; k < te.end; ++k) {
       const uint32_t i = list(k);
       const RasterTri& t = tris(i);
@@ -143,7 +154,8 @@ struct FineRasterHost {
   }
 };
 
-// The usual sink: the finished tile into the visibility buffer, as keys.
+// The usual sink: the finished tile into the visibility buffer, as keys
+// (emptyTile: a tile no triangle touches).
 struct VisSink {
   DView<uint64_t> vis;
   int32_t width;
@@ -152,6 +164,10 @@ struct VisSink {
     for (int r = 0; r < h; ++r)
       for (int c = 0; c < w; ++c)
         vis(int64_t(ty0 + r) * width + tx0 + c) = uint64_t(zb[r * kTileSize + c]) << 32 | ib[r * kTileSize + c];
+  }
+  KOKKOS_INLINE_FUNCTION void emptyTile(int32_t tx0, int32_t ty0, int32_t w, int32_t h) const {
+    for (int r = 0; r < h; ++r)
+      for (int c = 0; c < w; ++c) vis(int64_t(ty0 + r) * width + tx0 + c) = kClearKey;
   }
 };
 

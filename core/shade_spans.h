@@ -316,6 +316,25 @@ struct ShadeSpans : Shade {
     for (int32_t r = 0; r < h; ++r) shadeRow(tx0, ty0 + r, w, ib + r * stride, zb + r * stride, cache);
   }
 
+  // A tile no triangle touches: background, and the cleared depth and ids
+  // (what shadeRow gives for ids 0 and depth bits of kClearKey).
+  KOKKOS_INLINE_FUNCTION void shadeEmpty(int32_t tx0, int32_t ty0, int32_t w, int32_t h) const {
+    for (int32_t r = 0; r < h; ++r) {
+      const int64_t row = int64_t(ty0 + r) * width + tx0;
+      if (p.wantDepth)
+        for (int32_t j = 0; j < w; ++j) depthOut(row + j) = bitsFloat(uint32_t(kClearKey >> 32));
+      if (p.wantPrimId)
+        for (int32_t j = 0; j < w; ++j) primOut(row + j) = 0;
+      if (p.floatOut) {
+        for (int32_t j = 0; j < w; ++j) hdr(row + j) = p.backgroundFilm;
+      } else {
+        uint32_t* const dst = color.data() + row;
+        const uint32_t bg = p.backgroundPacked;
+        for (int32_t j = 0; j < w; ++j) dst[j] = bg;
+      }
+    }
+  }
+
   // The cached SpanTri of raster triangle `index`, prepared on a miss.
   KOKKOS_INLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c) const {
     for (int s = 0; s < SpanTriCache::kSlots; ++s)

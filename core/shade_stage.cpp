@@ -54,6 +54,9 @@ struct ShadeSink {
                                    const uint32_t* ib) const {
     spans.shadeTile(tx0, ty0, w, h, kTileSize, ib, zb);
   }
+  KOKKOS_INLINE_FUNCTION void emptyTile(int32_t tx0, int32_t ty0, int32_t w, int32_t h) const {
+    spans.shadeEmpty(tx0, ty0, w, h);
+  }
 };
 
 template <bool kHost>
