@@ -44,13 +44,19 @@ BinGeometry binTriangles(FrameBuffers& f);
 // Depth-tests one row span of a triangle in a host tile (FineRasterHost):
 // depthAt over the span, vectorized, and the tile's depth bits and ids kept
 // where it is nearer.
-KOKKOS_INLINE_FUNCTION void depthSpan(int32_t m, double s0, double s2, double a0, double a2, float z0, float dz1, float dz2,
+// The loop runs over whole blocks of kDepthBlock pixels, the lanes past the
+// span's end keeping what they hold (the tile's arrays have room for a block
+// past their last row), so that a short span is one vector, not a scalar
+// remainder loop.
+constexpr int kDepthBlock = 8;
+KOKKOS_FORCEINLINE_FUNCTION void depthSpan(int32_t m, double s0, double s2, double a0, double a2, float z0, float dz1, float dz2,
                                float ia, uint32_t id, uint32_t* __restrict__ zr, uint32_t* __restrict__ ir) {
-  for (int32_t j = 0; j < m; ++j) {
+  const int32_t mb = (m + kDepthBlock - 1) & ~(kDepthBlock - 1);
+  for (int32_t j = 0; j < mb; ++j) {
     // depthAt(t, e0, e1, e2): l1 from edge 2, l2 from edge 0
     const float l1 = float(s2 + a2 * double(j)) * ia, l2 = float(s0 + a0 * double(j)) * ia;
     const uint32_t bits = floatBits(clamp01(z0 + (l1 * dz1 + l2 * dz2)));
-    const bool win = bits < zr[j];
+    const bool win = (bits < zr[j]) & (j < m);
     zr[j] = win ? bits : zr[j];
     ir[j] = win ? id : ir[j];
   }
@@ -121,8 +127,8 @@ struct FineRasterHost {
       sink.emptyTile(tx0, ty0, imin(kTileSize, width - tx0), imin(kTileSize, height - ty0));
       return;
     }
-    uint32_t zb[kTilePixels], ib[kTilePixels];
-    for (int p = 0; p < kTilePixels; ++p) {
+    uint32_t zb[kTilePixels + kDepthBlock], ib[kTilePixels + kDepthBlock];  // + a block: depthSpan's last lanes
+    for (int p = 0; p < kTilePixels + kDepthBlock; ++p) {
       zb[p] = uint32_t(kClearKey >> 32);
       ib[p] = 0;
     }
@@ -146,8 +152,7 @@ struct FineRasterHost {
         const double s0 = double(c0 + e.A[0] * lo), s2 = double(c2 + e.A[2] * lo);
         uint32_t* zr = zb + (y - ty0) * kTileSize + (x0 - tx0) + lo;
         uint32_t* ir = ib + (y - ty0) * kTileSize + (x0 - tx0) + lo;
-        if (hi - lo + 1 >= kWideSpan) depthSpanWide(hi - lo + 1, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
-        else depthSpan(hi - lo + 1, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
+        depthSpanWide(hi - lo + 1, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
       }
     }
     sink.tile(tx0, ty0, imin(kTileSize, width - tx0), imin(kTileSize, height - ty0), zb, ib);
