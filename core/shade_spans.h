@@ -106,21 +106,21 @@ RAST_CPU_CLONES void spanLightingWide(const SpanConsts& k, int32_t m, float* __r
 // in Lambert).
 KOKKOS_FORCEINLINE_FUNCTION void packSpan(int32_t m, const float* __restrict__ r, const float* __restrict__ g,
                                      const float* __restrict__ b, const float* __restrict__ a,
-                                     const float* __restrict__ diffuse, const float* __restrict__ table,
+                                     const float* __restrict__ diffuse, const uint32_t* __restrict__ table,
                                      uint32_t* __restrict__ dst) {
   uint32_t packed[kMaxSpanRun];
   const int32_t mb = spanBlocks(m);
   for (int32_t j = 0; j < mb; ++j) {
     const float d = diffuse[j];
     const float al = clamp01(a[j]) * 255.0f + 0.5f;  // unorm8, in [0.5, 255.5]: int conversion is exact
-    packed[j] = encodeSrgb8Flat(r[j] * d + 0.0f, table) | encodeSrgb8Flat(g[j] * d + 0.0f, table) << 8 |
-                encodeSrgb8Flat(b[j] * d + 0.0f, table) << 16 | uint32_t(int32_t(al)) << 24;
+    packed[j] = encodeSrgb8Packed(r[j] * d + 0.0f, table) | encodeSrgb8Packed(g[j] * d + 0.0f, table) << 8 |
+                encodeSrgb8Packed(b[j] * d + 0.0f, table) << 16 | uint32_t(int32_t(al)) << 24;
   }
   for (int32_t j = 0; j < m; ++j) dst[j] = packed[j];  // the span only
 }
 RAST_CPU_CLONES void packSpanWide(int32_t m, const float* __restrict__ r, const float* __restrict__ g,
                                   const float* __restrict__ b, const float* __restrict__ a,
-                                  const float* __restrict__ diffuse, const float* __restrict__ table,
+                                  const float* __restrict__ diffuse, const uint32_t* __restrict__ table,
                                   uint32_t* __restrict__ dst) {
   packSpan(m, r, g, b, a, diffuse, table, dst);
 }
@@ -281,6 +281,8 @@ struct SpanTriCache {
 };
 
 struct ShadeSpans : Shade {
+  const uint32_t* encodePacked = nullptr;  // srgbEncodePacked(), host memory (see spansOf)
+
   // Whether this kernel covers a frame of these settings.
   static bool usable(const ShadeParams& p, int samples, int run) {
     return run > 1 && run <= kMaxSpanRun && samples == 1 && p.mode == ShadingMode::Lambert &&
@@ -476,8 +478,8 @@ struct ShadeSpans : Shade {
     }
     if (!p.floatOut) {
       uint32_t* dst = color.data() + out;
-      if (wide) packSpanWide(m, br, bg, bb, ba, diffuse, encode.data(), dst);
-      else packSpan(m, br, bg, bb, ba, diffuse, encode.data(), dst);
+      if (wide) packSpanWide(m, br, bg, bb, ba, diffuse, encodePacked, dst);
+      else packSpan(m, br, bg, bb, ba, diffuse, encodePacked, dst);
       return;
     }
     for (int32_t j = 0; j < m; ++j) {

@@ -28,6 +28,15 @@ struct DepthRange {
   }
 };
 
+// The span kernel with its host-side encoder table (the host backends share
+// host memory with their kernels).
+shading::ShadeSpans spansOf(const Shade& k) {
+  static const std::vector<uint32_t> packed = srgbEncodePacked();
+  shading::ShadeSpans s{k};
+  s.encodePacked = packed.data();
+  return s;
+}
+
 // The span kernel (shade_spans.h) is compiled for the host backends only: a
 // GPU shades one pixel per thread and never launches it.
 template <bool kWithSpans>
@@ -35,7 +44,7 @@ void launchShade(const Shade& k, int samples, const Range& items) {
   if constexpr (kWithSpans) {
     using Spans = std::conditional_t<kWithSpans, shading::ShadeSpans, Shade>;  // dependent: not built for GPUs
     if (Spans::usable(k.p, samples, k.run)) {
-      Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{k});
+      Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{spansOf(k)});
       return;
     }
   }
@@ -68,7 +77,7 @@ bool launchFused(const Shade& k, FrameBuffers& f) {
     using Policy = Kokkos::RangePolicy<Exec, Kokkos::Schedule<Kokkos::Dynamic>, Kokkos::IndexType<uint32_t>>;
     Kokkos::parallel_for("rast::raster::binned::fine_shade", Policy(0, g.numTiles()),
                          Fine{f.tris, f.tileStart, f.work, f.counters, g, f.vp.width, f.vp.height, f.workCapacity,
-                              ShadeSink{shading::ShadeSpans{k}}});
+                              ShadeSink{spansOf(k)}});
     return true;
   }
   return false;

@@ -64,16 +64,20 @@ void compareRuns(const std::string& name, const Scene& s, const Camera& cam, Ren
 
 }  // namespace
 
-TEST_CASE("sRGB bucket encoder equals the binary search over its thresholds", "[cpu-paths]") {
+TEST_CASE("sRGB bucket encoders (two reads, and one packed read) equal the binary search over the thresholds", "[cpu-paths]") {
   const std::vector<float> t = srgbEncodeThresholds();
   REQUIRE(t.size() == kSrgbEncodeTableSize);
   const Kokkos::View<const float*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> table(t.data(), t.size());
+  const std::vector<uint32_t> packed = srgbEncodePacked();
+  REQUIRE(packed.size() == kSrgbBuckets);
   size_t checked = 0, wrong = 0;
   auto check = [&](float c) {
     ++checked;
     const uint32_t want = binarySearchEncode(c, t), got = encodeSrgb8(c, table), flat = encodeSrgb8Flat(c, t.data());
-    if (want != got || want != flat) {
-      if (++wrong <= 5) UNSCOPED_INFO("c = " << c << " (bits " << floatBits(c) << "): " << got << " != " << want);
+    const uint32_t one = encodeSrgb8Packed(c, packed.data());
+    if (want != got || want != flat || want != one) {
+      if (++wrong <= 5)
+        UNSCOPED_INFO("c = " << c << " (bits " << floatBits(c) << "): " << got << ", " << flat << ", " << one << " != " << want);
     }
   };
   // Every 17th float from 0 to past 1, then the neighbourhood of every
@@ -90,6 +94,8 @@ TEST_CASE("sRGB bucket encoder equals the binary search over its thresholds", "[
   CHECK(encodeSrgb8(-std::nanf(""), table) == 0);
   CHECK(encodeSrgb8Flat(std::nanf(""), t.data()) == 0);
   CHECK(encodeSrgb8Flat(-std::nanf(""), t.data()) == 0);
+  CHECK(encodeSrgb8Packed(std::nanf(""), packed.data()) == 0);
+  CHECK(encodeSrgb8Packed(-std::nanf(""), packed.data()) == 0);
   CHECK(checked > 60000000);
   CHECK(wrong == 0);
 }
