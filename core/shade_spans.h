@@ -275,7 +275,7 @@ struct SpanTri {
 };
 
 struct SpanTriCache {
-  static constexpr int kSlots = 4;
+  static constexpr int kSlots = 8;
   SpanTri slot[kSlots];
   int next = 0;
 };
