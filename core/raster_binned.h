@@ -69,6 +69,39 @@ RAST_CPU_CLONES void depthSpanWide(int32_t m, double s0, double s2, double a0, d
   depthSpan(m, s0, s2, a0, a2, z0, dz1, dz2, ia, id, zr, ir);
 }
 
+// A triangle whose box within a tile is at most kDepthBlock pixels wide
+// (most triangles of a dense mesh): its rows' coverage as a mask over one
+// block per row, from the edge values stepped exactly in double (integers
+// below 2^53, as in depthSpan), instead of each row's span found by
+// division. e0..e2: the unbiased edge values at (x0, y0); bias0..2 the
+// edges' top-left biases (inside: e + bias > 0); n: the box's width. The
+// same depth bits as depthSpan for every covered pixel.
+KOKKOS_FORCEINLINE_FUNCTION void depthBox(int32_t rows, int32_t n, double e0, double e1, double e2, double a0, double a1,
+                                          double a2, double b0, double b1, double b2, double bias0, double bias1,
+                                          double bias2, float z0, float dz1, float dz2, float ia, uint32_t id,
+                                          uint32_t* __restrict__ zr, uint32_t* __restrict__ ir) {
+  for (int32_t r = 0; r < rows; ++r) {
+    const double r0 = e0 + b0 * double(r), r1 = e1 + b1 * double(r), r2 = e2 + b2 * double(r);
+    uint32_t* __restrict__ zrow = zr + r * kTileSize;
+    uint32_t* __restrict__ irow = ir + r * kTileSize;
+    for (int32_t j = 0; j < kDepthBlock; ++j) {
+      const double f0 = r0 + a0 * double(j), f1 = r1 + a1 * double(j), f2 = r2 + a2 * double(j);
+      const bool in = (f0 + bias0 > 0.0) & (f1 + bias1 > 0.0) & (f2 + bias2 > 0.0) & (j < n);
+      const float l1 = float(f2) * ia, l2 = float(f0) * ia;  // depthAt: l1 from edge 2, l2 from edge 0
+      const uint32_t bits = floatBits(clamp01(z0 + (l1 * dz1 + l2 * dz2)));
+      const bool win = in & (bits < zrow[j]);
+      zrow[j] = win ? bits : zrow[j];
+      irow[j] = win ? id : irow[j];
+    }
+  }
+}
+RAST_CPU_CLONES void depthBoxWide(int32_t rows, int32_t n, double e0, double e1, double e2, double a0, double a1, double a2,
+                                  double b0, double b1, double b2, double bias0, double bias1, double bias2, float z0,
+                                  float dz1, float dz2, float ia, uint32_t id, uint32_t* __restrict__ zr,
+                                  uint32_t* __restrict__ ir) {
+  depthBox(rows, n, e0, e1, e2, a0, a1, a2, b0, b1, b2, bias0, bias1, bias2, z0, dz1, dz2, ia, id, zr, ir);
+}
+
 // The fine stage on a host backend with one sample per pixel: one thread per
 // tile, the tile's depth bits and ids in two small arrays (on the stack), and
 // each triangle walked row by row over exactly the pixels it covers (the
@@ -142,6 +175,15 @@ struct FineRasterHost {
       const float z0 = t.z[0], dz1 = t.z[1] - t.z[0], dz2 = t.z[2] - t.z[0], ia = t.invArea;
       const double a0 = double(e.A[0]), a2 = double(e.A[2]);
       const uint32_t id = i + 1;
+      if (n <= kDepthBlock) {  // a narrow box: coverage masks, no divisions
+        if (y1 >= y0) {
+          const size_t at = size_t(y0 - ty0) * kTileSize + size_t(x0 - tx0);
+          depthBoxWide(y1 - y0 + 1, n, double(e.eval(0, x0, y0)), double(e.eval(1, x0, y0)), double(e.eval(2, x0, y0)),
+                       a0, double(e.A[1]), a2, double(e.B[0]), double(e.B[1]), double(e.B[2]), double(e.bias[0]),
+                       double(e.bias[1]), double(e.bias[2]), z0, dz1, dz2, ia, id, zb + at, ib + at);
+        }
+        continue;
+      }
       for (int32_t y = y0; y <= y1; ++y) {
         const int64_t c0 = e.eval(0, x0, y), c1 = e.eval(1, x0, y), c2 = e.eval(2, x0, y);
         int32_t lo = 0, hi = n - 1;
