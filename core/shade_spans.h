@@ -197,8 +197,19 @@ KOKKOS_FORCEINLINE_FUNCTION void bilinearPixel(const SpanTex& t, int32_t j, cons
   fa[j] = fu - flu;
   fb[j] = fv - flv;
   const int32_t x0 = int32_t(flu), y0 = int32_t(flv);
-  const uint32_t xa = uint32_t(wrapIndexFlat(x0, w, ws, bad)), xb = uint32_t(wrapIndexFlat(x0 + 1, w, ws, bad));
-  const uint32_t ya = uint32_t(wrapIndexFlat(y0, h, wt, bad)), yb = uint32_t(wrapIndexFlat(y0 + 1, h, wt, bad));
+  uint32_t xa, xb, ya, yb;
+  if (kRepeat) {  // repeat: wrap(i + 1) is wrap(i) + 1, or 0 past the end
+    const int32_t wa = wrapIndexFlat(x0, w, ws, bad), ha = wrapIndexFlat(y0, h, wt, bad);
+    xa = uint32_t(wa);
+    xb = uint32_t(wa + 1 == w ? 0 : wa + 1);
+    ya = uint32_t(ha);
+    yb = uint32_t(ha + 1 == h ? 0 : ha + 1);
+  } else {
+    xa = uint32_t(wrapIndexFlat(x0, w, ws, bad));
+    xb = uint32_t(wrapIndexFlat(x0 + 1, w, ws, bad));
+    ya = uint32_t(wrapIndexFlat(y0, h, wt, bad));
+    yb = uint32_t(wrapIndexFlat(y0 + 1, h, wt, bad));
+  }
   // below 2^31: a texture's texels are counted in int32 (DeviceScene); signed
   // indices let AVX2 gather them
   i00[j] = int32_t(ya * uint32_t(w) + xa);
@@ -276,6 +287,7 @@ struct SpanTri {
 
 struct SpanTriCache {
   static constexpr int kSlots = 8;
+  uint32_t key[kSlots] = {~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u};  // slot[s].f.index, together in one line
   SpanTri slot[kSlots];
   int next = 0;
 };
@@ -340,7 +352,8 @@ struct ShadeSpans : Shade {
   // The cached SpanTri of raster triangle `index`, prepared on a miss.
   KOKKOS_INLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c) const {
     for (int s = 0; s < SpanTriCache::kSlots; ++s)
-      if (c.slot[s].f.index == index) return c.slot[s];
+      if (c.key[s] == index) return c.slot[s];
+    c.key[c.next] = index;
     SpanTri& st = c.slot[c.next];
     c.next = c.next + 1 < SpanTriCache::kSlots ? c.next + 1 : 0;
     prepare(index, st.f);
