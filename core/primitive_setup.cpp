@@ -167,9 +167,12 @@ constexpr uint32_t kStageStride = kTriQuads + 1;
 
 struct WriteChunks {
   SetupCommon c;
-  DView<uint32_t> chunkOffset;
+  DView<uint32_t> chunkOffset, counters;
   DView<RasterTri> tris;
   uint32_t capacity, numTris;
+  // One chunk only: its offset is 0 and its own count is the total, so the
+  // count and scan kernels are skipped and this one writes the total.
+  int32_t single;
 
   static size_t scratchBytes() {
     return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 2 * sizeof(uint32_t) * (kSetupChunk + 1);
@@ -202,7 +205,11 @@ struct WriteChunks {
       upd += k;
     });
     m.team_barrier();
-    const uint32_t base = chunkOffset(chunk);
+    const uint32_t base = single ? 0u : chunkOffset(chunk);
+    if (single)
+      Kokkos::single(Kokkos::PerTeam(m), [&]() {
+        counters(kRasterTris) = len ? offset[len - 1] + (count[len - 1] & ~kClippedFlag) : 0u;
+      });
     // 3. Unclipped triangles, copied piece by piece: neighbouring threads
     //    write neighbouring 16 bytes (coalesced on a GPU).
     Quad* dst = reinterpret_cast<Quad*>(tris.data());
@@ -234,13 +241,15 @@ struct WriteChunks {
 // same triangles at the same offsets.
 struct WriteChunksHost {
   SetupCommon c;
-  DView<uint32_t> chunkOffset;
+  DView<uint32_t> chunkOffset, counters;
   DView<RasterTri> tris;
   uint32_t capacity, numTris;
+  int32_t single;  // one chunk: offset 0, and its count is the total (as WriteChunks)
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
     const uint32_t first = chunk * kSetupChunk, len = chunkLength(chunk, numTris);
-    uint32_t o = chunkOffset(chunk);
+    const uint32_t base = single ? 0u : chunkOffset(chunk);
+    uint32_t o = base;
     for (uint32_t i = 0; i < len; ++i) {
       bool clipped;
       RasterTri rt;
@@ -258,22 +267,23 @@ struct WriteChunksHost {
         ++o;
       });
     }
+    if (single) counters(kRasterTris) = o - base;
   }
 };
 
 // Launches the write pass: WriteChunks' teams on GPUs, WriteChunksHost on
 // host backends (not built for GPUs).
 template <bool kHost>
-void launchWrite(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris) {
+void launchWrite(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool single) {
   if constexpr (kHost) {
     using Host = std::conditional_t<kHost, WriteChunksHost, void>;  // dependent: not built for GPUs
     Kokkos::parallel_for("rast::setup::write", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
-                         Host{c, f.chunkOffset, f.tris, f.triCapacity, numTris});
+                         Host{c, f.chunkOffset, f.counters, f.tris, f.triCapacity, numTris, single ? 1 : 0});
   } else {
     Kokkos::parallel_for("rast::setup::write",
                          lightweight(TeamPolicy(int(chunks), kTeamSize))
                              .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
-                         WriteChunks{c, f.chunkOffset, f.tris, f.triCapacity, numTris});
+                         WriteChunks{c, f.chunkOffset, f.counters, f.tris, f.triCapacity, numTris, single ? 1 : 0});
   }
 }
 
@@ -293,10 +303,13 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack) {
   ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
   SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
-  if (chunks > 0)
+  // Small scenes (one chunk) take one launch instead of four: launches, not
+  // work, are most of their frame on a GPU.
+  const bool single = chunks == 1;
+  if (chunks > 1)
     Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)), CountChunks{c, f.chunkOffset, s.numTris});
-  scanExclusive("rast::setup::scan", f.chunkOffset, chunks, f.counters, kRasterTris);
-  if (chunks > 0) launchWrite<!kOnDevice>(c, f, chunks, s.numTris);
+  if (!single) scanExclusive("rast::setup::scan", f.chunkOffset, chunks, f.counters, kRasterTris);
+  if (chunks > 0) launchWrite<!kOnDevice>(c, f, chunks, s.numTris, single);
 }
 
 }  // namespace rast

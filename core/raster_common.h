@@ -173,6 +173,23 @@ KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t e1,
   return clamp01(t.z[0] + (l1 * (t.z[1] - t.z[0]) + l2 * (t.z[2] - t.z[0])));
 }
 
+// A triangle's depth range over its pixels, widened so that the rounding of
+// depthAt() cannot leave it: the interpolation is a convex combination of the
+// corner depths up to a few ulps of the terms involved. NaN gives [0, 1].
+// The visibility-buffer raster skips 8x8 blocks with it (raster_visbuffer.cpp).
+struct DepthBounds {
+  float lo, hi;
+};
+KOKKOS_INLINE_FUNCTION DepthBounds depthBounds(const RasterTri& t) {
+  const float a = t.z[0], b = t.z[1], c = t.z[2];
+  if (!(a == a && b == b && c == c)) return {0.0f, 1.0f};
+  const float mn = a < b ? (a < c ? a : c) : (b < c ? b : c), mx = a > b ? (a > c ? a : c) : (b > c ? b : c);
+  const float margin = 1e-6f * (1.0f + (a < 0.0f ? -a : a) + (b < 0.0f ? -b : b) + (c < 0.0f ? -c : c));
+  const float lo = mn - margin, hi = mx + margin;
+  // Not (lo > 0): a NaN bound (infinite depths) must give 0 and 1 too.
+  return {lo > 0.0f ? (lo < 1.0f ? lo : 1.0f) : 0.0f, hi < 1.0f ? (hi > 0.0f ? hi : 0.0f) : 1.0f};
+}
+
 // The visibility key: depth in the high word (non-negative floats order like
 // their bits), raster triangle index + 1 in the low word. Taking the minimum
 // resolves the depth test (LESS) and breaks ties towards the earlier triangle,
@@ -187,8 +204,9 @@ constexpr uint64_t kClearKey = uint64_t(0x3f800000u) << 32;  // depth 1.0, no tr
 // Edge values step incrementally along a row: exact, since they are integers.
 // With several samples per pixel the buffer holds `count` keys per pixel, and
 // each sample follows the same rules at its own position.
-KOKKOS_INLINE_FUNCTION void rasterRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0, int32_t x1,
-                                       int32_t y0, int32_t y1, uint64_t* vis, int32_t width, const SamplePattern& sp) {
+// Returns the number of pixels the triangle covers there (samples: 0).
+KOKKOS_INLINE_FUNCTION uint32_t rasterRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0, int32_t x1,
+                                           int32_t y0, int32_t y1, uint64_t* vis, int32_t width, const SamplePattern& sp) {
   if (sp.count > 1) {
     for (int32_t y = y0; y <= y1; ++y) {
       int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
@@ -207,8 +225,9 @@ KOKKOS_INLINE_FUNCTION void rasterRect(const RasterTri& t, const Edges& e, uint3
         e2 += e.A[2];
       }
     }
-    return;
+    return 0;
   }
+  uint32_t covered = 0;
   for (int32_t y = y0; y <= y1; ++y) {
     int64_t e0 = e.eval(0, x0, y), e1 = e.eval(1, x0, y), e2 = e.eval(2, x0, y);
     uint64_t* row = vis + int64_t(y) * width;
@@ -218,12 +237,14 @@ KOKKOS_INLINE_FUNCTION void rasterRect(const RasterTri& t, const Edges& e, uint3
         // The plain read only skips atomics that could not win; the atomic
         // minimum alone decides, so the result is independent of ordering.
         if (key < row[x]) Kokkos::atomic_fetch_min(&row[x], key);
+        ++covered;
       }
       e0 += e.A[0];
       e1 += e.A[1];
       e2 += e.A[2];
     }
   }
+  return covered;
 }
 
 }  // namespace rast

@@ -32,6 +32,7 @@ void rasterNaive(FrameBuffers& f) {
 }
 
 void clearVisibility(FrameBuffers& f) {
+  if (f.visClear) return;  // the last shading pass left it clear
   auto vis = f.vis;
   Kokkos::parallel_for("rast::raster::clear", Range(0, int64_t(f.vp.width) * f.vp.height * f.vp.samples.count),
                        KOKKOS_LAMBDA(const int64_t i) { vis(i) = kClearKey; });

@@ -4,8 +4,19 @@
 // thousands of small items instead of one thread walking two million pixels;
 // a sub-pixel triangle is one item. Depth is resolved by the 64-bit atomic
 // minimum of visKey, so the result does not depend on scheduling.
+//
+// Seen from inside a dense model, most (triangle, block) items lie behind
+// walls drawn earlier. Each 8x8 block keeps a bound on the depth of all its
+// pixels (f.blockDepth, float bits): an item whose triangle cannot come
+// nearer than the bound is skipped whole, and an item that covers its block
+// completely lowers the bound to the triangle's farthest depth. The bound
+// only ever holds for every pixel, so a skipped item is one whose every
+// fragment would lose its depth test: the keys are those of the full pass,
+// whatever the order items run in. (Single-sample frames only.)
 #include "raster_common.h"
 #include "stages.h"
+
+#include <algorithm>
 
 namespace rast {
 namespace {
@@ -18,14 +29,27 @@ KOKKOS_INLINE_FUNCTION uint32_t blocksOf(const RasterTri& t, uint32_t& bw) {
   return bw * bh;
 }
 
-struct CountBlocks {
+constexpr uint32_t kFarBits = 0x3f800000u;  // depth 1.0: the clear value's
+
+// Per raster triangle, its number of blocks, summed into the exclusive offsets
+// of its items (blockStart) and the total (counters(kRasterWork)) in one scan:
+// counting inside the scan saves a kernel launch, which costs more than
+// reading the bounding boxes twice. The same items reset the block depth
+// bounds for this frame (the range covers both; the raster kernel runs after).
+struct ScanBlocks {
   DView<RasterTri> tris;
-  DView<uint32_t> counters, blocks;
-  uint32_t capacity;
-  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i) const {
-    const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
+  DView<uint32_t> counters, blockStart, blockDepth;
+  uint32_t capacity, numBlocks, n;
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint32_t& upd, const bool final) const {
+    const uint32_t nt = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     uint32_t bw;
-    blocks(i) = i < n ? blocksOf(tris(i), bw) : 0u;
+    const uint32_t b = i < nt ? blocksOf(tris(i), bw) : 0u;
+    if (final) {
+      if (i < capacity) blockStart(i) = upd;
+      if (i < numBlocks) blockDepth(i) = kFarBits;
+      if (i + 1 == n) counters(kRasterWork) = upd + b;
+    }
+    upd += b;
   }
 };
 
@@ -33,9 +57,9 @@ struct CountBlocks {
 // device, so the launch is sized to fill the machine instead.
 struct RasterBlocks {
   DView<RasterTri> tris;
-  DView<uint32_t> counters, blockStart;
+  DView<uint32_t> counters, blockStart, blockDepth;
   DView<uint64_t> vis;
-  int32_t width;
+  int32_t width, blocksPerRow;
   uint32_t numTriSlots, stride;
   SamplePattern samples;
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t thread) const {
@@ -50,7 +74,15 @@ struct RasterBlocks {
       const int32_t by = (t.minY >> kBlockShift) + int32_t(local / bw);
       const int32_t x0 = imax(t.minX, bx << kBlockShift), x1 = imin(t.maxX, ((bx + 1) << kBlockShift) - 1);
       const int32_t y0 = imax(t.minY, by << kBlockShift), y1 = imin(t.maxY, ((by + 1) << kBlockShift) - 1);
-      rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
+      if (samples.count > 1) {
+        rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
+        continue;
+      }
+      const uint32_t b = uint32_t(by) * uint32_t(blocksPerRow) + uint32_t(bx);
+      const DepthBounds z = depthBounds(t);
+      if (floatBits(z.lo) > blockDepth(b)) continue;  // behind every pixel of the block
+      const uint32_t covered = rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
+      if (covered == (1u << (2 * kBlockShift))) Kokkos::atomic_fetch_min(&blockDepth(b), floatBits(z.hi));
     }
   }
 };
@@ -59,13 +91,18 @@ struct RasterBlocks {
 
 void rasterVisBuffer(FrameBuffers& f) {
   ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
+  const int32_t bx = (f.vp.width + (1 << kBlockShift) - 1) >> kBlockShift;
+  const int32_t by = (f.vp.height + (1 << kBlockShift) - 1) >> kBlockShift;
+  const uint32_t numBlocks = uint32_t(bx) * uint32_t(by);
+  ensureCapacity(f.blockDepth, "frame.blockDepth", numBlocks);
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
-  Kokkos::parallel_for("rast::raster::visbuffer::count", Policy(0, f.triCapacity),
-                       CountBlocks{f.tris, f.counters, f.workOffset, f.triCapacity});
-  scanExclusive("rast::raster::visbuffer::scan", f.workOffset, f.triCapacity, f.counters, kRasterWork);
+  const uint32_t n = std::max(f.triCapacity, numBlocks);
+  Kokkos::parallel_scan("rast::raster::visbuffer::scan", Policy(0, n),
+                        ScanBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.triCapacity, numBlocks, n});
   const uint32_t threads = persistentThreads();
-  Kokkos::parallel_for("rast::raster::visbuffer::blocks", Policy(0, threads),
-                       RasterBlocks{f.tris, f.counters, f.workOffset, f.vis, f.vp.width, f.triCapacity, threads, f.vp.samples});
+  Kokkos::parallel_for("rast::raster::visbuffer::blocks", lightweight(Policy(0, threads)),
+                       RasterBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.vis, f.vp.width, bx, f.triCapacity,
+                                    threads, f.vp.samples});
 }
 
 }  // namespace rast

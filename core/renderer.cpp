@@ -17,7 +17,7 @@ namespace rast {
 
 size_t FrameBuffers::bytes() const {
   return viewBytes(mvp) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) +
-         viewBytes(tris) + viewBytes(workOffset) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
+         viewBytes(tris) + viewBytes(workOffset) + viewBytes(blockDepth) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
 
@@ -136,6 +136,7 @@ void Renderer::prepare(const RenderSettings& rs) {
     frame_.vp = Viewport{rs.width, rs.height, samplePattern(rs.msaa)};
     // Exact size: a smaller frame releases the larger buffers.
     frame_.vis = allocUninit<uint64_t>("frame.vis", n * size_t(rs.msaa));
+    frame_.visClear = false;
     frame_.color = allocUninit<uint32_t>("frame.color", n);
     frame_.depth = DView<float>();
     frame_.primId = DView<uint32_t>();
@@ -239,6 +240,8 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   }
   // Points and lines after the triangles: binned writes every pixel.
   if (!fused) rasterLinesAndPoints(scene_, frame_, linePass);
+  // Keys were written (the fused path writes none); shading may clear them.
+  if (!fused) frame_.visClear = false;
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("raster");
 

@@ -8,11 +8,11 @@
 // there. What it needs from its triangle (edge functions, draw, indices,
 // vertex attributes, material, texture) is looked up once per triangle
 // (TriFrag), and a work item shades a run of pixels along a row, keeping the
-// last triangle's TriFrag: on a CPU neighbouring pixels mostly belong to the
-// same triangle, so those lookups leave the per-pixel cost (backends/tuning.h
-// kShadeRun; a GPU shades one pixel per thread, where the run is 1). The
-// arithmetic per fragment is the same either way, so the run length changes
-// no bit of the result.
+// last triangle's TriFrag: neighbouring pixels mostly belong to the same
+// triangle, so those lookups leave the per-pixel cost (backends/tuning.h
+// kShadeRun; a GPU instead gives each thread a few pixels 32 apart, see
+// shadeInterleaved). The arithmetic per fragment is the same either way, so
+// the layout of work items changes no bit of the result.
 #pragma once
 
 #include "color.h"
@@ -67,6 +67,9 @@ struct Shade {
   ShadeParams p;
   LineShade lineShade;  // fragments of points and lines (raster_lines.h)
   int32_t run, runsPerRow;  // pixels per work item along a row (kShadeRun), work items per row
+  int32_t clearVis = 0;     // write kClearKey over every sample once read (FrameBuffers::visClear)
+  int32_t height = 0;
+  int32_t interleaved = 0;  // GPU layout of work items (shadeInterleaved) instead of runs along rows
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
     const float zn = 2.0f * d - 1.0f;
@@ -248,39 +251,90 @@ struct Shade {
 
   // One work item: pixels [x0, x1) of row Y, sharing the TriFrag of the last
   // triangle seen.
+  // Work items number below 2^31 (kMaxFramebufferSide), so the row and column
+  // are found in 32-bit arithmetic: a 64-bit division is a long software
+  // routine on GPUs, paid once per pixel there.
   KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
-    const int32_t Y = int32_t(item / runsPerRow);
-    const int32_t x0 = int32_t(item % runsPerRow) * run;
+    if (interleaved) {
+      shadeInterleaved(uint32_t(item));
+      return;
+    }
+    const uint32_t it = uint32_t(item), rows = uint32_t(runsPerRow);
+    const int32_t Y = int32_t(it / rows);
+    const int32_t x0 = int32_t(it - uint32_t(Y) * rows) * run;
     const int32_t x1 = x0 + run < width ? x0 + run : width;
+    const int64_t row = int64_t(Y) * width;
     TriFrag f;
-    for (int32_t X = x0; X < x1; ++X) shadePixel(int64_t(Y) * width + X, X, Y, f);
+    for (int32_t X = x0; X < x1; ++X) shadePixel(row + X, X, Y, f);
+  }
+
+  // GPUs, one sample per pixel: work item w shades kShadeInterleave pixels 32
+  // apart, so that each of its loads and stores is one coalesced access of
+  // the 32 neighbouring work items (a warp). It loads all its keys before
+  // shading any: the kernel is bound by those loads, and its register cap
+  // (kShadeLaunchBounds) leaves too few warps to hide one at a time.
+  static constexpr uint32_t kLanes = 32;
+  KOKKOS_INLINE_FUNCTION static uint32_t interleavedItems(uint32_t pixels) {
+    const uint32_t per = kLanes * uint32_t(kShadeInterleave);
+    return (pixels + per - 1) / per * kLanes;
+  }
+  KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
+    const uint32_t first = w / kLanes * kLanes * uint32_t(kShadeInterleave) + w % kLanes;
+    const uint32_t pixels = uint32_t(width) * uint32_t(height);
+    uint64_t keys[kShadeInterleave];
+    for (int k = 0; k < kShadeInterleave; ++k) {
+      const uint32_t i = first + uint32_t(k) * kLanes;
+      keys[k] = i < pixels ? vis(i) : kClearKey;
+    }
+    TriFrag f;
+    for (int k = 0; k < kShadeInterleave; ++k) {
+      const uint32_t i = first + uint32_t(k) * kLanes;
+      if (i >= pixels) break;
+      const int32_t Y = int32_t(i / uint32_t(width));
+      shadeSingle(int64_t(i), int32_t(i - uint32_t(Y) * uint32_t(width)), Y, f, keys[k]);
+    }
   }
 
   KOKKOS_INLINE_FUNCTION void use(uint32_t index, TriFrag& f) const {
     if (index != f.index) prepare(index, f);
   }
 
-  KOKKOS_INLINE_FUNCTION void shadePixel(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f) const {
-    const int S = samples.count;
-    const uint64_t key0 = vis(i * S);
+  // Outputs of every pixel: ids and depth of its first sample (as OpenGL
+  // resolves integer and depth buffers: one sample).
+  KOKKOS_INLINE_FUNCTION void writeIds(const int64_t i, const uint64_t key0) const {
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
-    // Outputs: ids and depth of the first sample (as OpenGL resolves integer
-    // and depth buffers: one sample).
     if (p.wantDepth) depthOut(i) = bitsFloat(uint32_t(key0 >> 32));
     if (p.wantPrimId)
       primOut(i) = idx0 == 0 ? 0 : (idx0 - 1) & kLineFlag ? lineShade.primId((idx0 - 1) & ~kLineFlag) : tris(idx0 - 1).prim + 1;
+  }
+
+  // One sample per pixel, its key already loaded.
+  KOKKOS_INLINE_FUNCTION void shadeSingle(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f,
+                                          const uint64_t key0) const {
+    // The next frame's clear, while the key is at hand (FrameBuffers::visClear).
+    if (clearVis) vis(i) = kClearKey;
+    writeIds(i, key0);
+    const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
+    if (idx0) use(idx0 - 1, f);
+    if (p.floatOut)
+      hdr(i) = idx0 ? shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
+    else
+      color(i) = idx0 ? display(shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
+                      : p.backgroundPacked;
+    if (p.wantNormals) normalOut(i) = n0;
+    if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
+  }
+
+  KOKKOS_INLINE_FUNCTION void shadePixel(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f) const {
+    const int S = samples.count;
     if (S == 1) {
-      if (idx0) use(idx0 - 1, f);
-      if (p.floatOut)
-        hdr(i) = idx0 ? shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
-      else
-        color(i) = idx0 ? display(shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
-                        : p.backgroundPacked;
-      if (p.wantNormals) normalOut(i) = n0;
-      if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
+      shadeSingle(i, X, Y, f, vis(i));
       return;
     }
+    const uint64_t key0 = vis(i * S);
+    writeIds(i, key0);
+    float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
     // Multisampling: shade once per distinct triangle among the samples, at the
     // centroid of the samples it covers (the pixel centre when it covers them
     // all; never outside the triangle, so attributes are not extrapolated),
@@ -316,6 +370,8 @@ struct Shade {
     }
     const float4 bg = raw ? float4{0.0f, 0.0f, 0.0f, 1.0f} : p.background;
     acc = (acc + bg * float(background)) * (1.0f / float(S));
+    if (clearVis)
+      for (int s = 0; s < S; ++s) vis(i * S + s) = kClearKey;
     if (p.floatOut) hdr(i) = acc;
     else color(i) = display(acc);
     if (p.wantNormals) normalOut(i) = n0;

@@ -38,22 +38,26 @@ shading::ShadeSpans spansOf(const Shade& k) {
 }
 
 // The span kernel (shade_spans.h) is compiled for the host backends only: a
-// GPU shades one pixel per thread and never launches it.
+// GPU shades a few pixels per thread and never launches it. Returns whether
+// the kernel clears the visibility buffer behind it (only the per-pixel one:
+// on a CPU the fused binned path, which writes no keys, is the common one).
 template <bool kWithSpans>
-void launchShade(const Shade& k, int samples, const Range& items) {
+bool launchShade(Shade k, int samples, const Range& items) {
   if constexpr (kWithSpans) {
     using Spans = std::conditional_t<kWithSpans, shading::ShadeSpans, Shade>;  // dependent: not built for GPUs
     if (Spans::usable(k.p, samples, k.run)) {
       Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{spansOf(k)});
-      return;
+      return false;
     }
   }
+  k.clearVis = 1;
   // On a GPU the fragment shader keeps one triangle's data (TriFrag) live:
   // unbounded, ptxas gives it 166 registers a thread, too few warps to hide the
   // loads of a latency-bound kernel. kShadeLaunchBounds caps that (host
   // backends ignore launch bounds).
   using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;
   Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), k);
+  return true;
 }
 
 // The fused binned raster's sink: a finished tile's rows shaded at once.
@@ -123,6 +127,8 @@ Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   // Runs of kShadeRun pixels along a row (the last run of a row may be shorter).
   k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
   k.runsPerRow = (f.vp.width + k.run - 1) / k.run;
+  k.height = f.vp.height;
+  k.interleaved = kShadeInterleave > 1 && k.run == 1 && f.vp.samples.count == 1;
   return k;
 }
 
@@ -130,7 +136,9 @@ Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
   const Shade k = makeShade(s, f, p, lights);
-  launchShade<!kOnDevice>(k, f.vp.samples.count, Range(0, int64_t(k.runsPerRow) * f.vp.height));
+  const int64_t items = k.interleaved ? int64_t(Shade::interleavedItems(uint32_t(f.vp.width) * uint32_t(f.vp.height)))
+                                      : int64_t(k.runsPerRow) * f.vp.height;
+  f.visClear = launchShade<!kOnDevice>(k, f.vp.samples.count, Range(0, items));
 }
 
 }  // namespace rast
