@@ -44,7 +44,13 @@ struct SpanConsts {
 };
 
 // The arithmetic of a span, as loops over its pixels that the compiler
-// vectorizes (also for AVX2: cpu_clones.h).
+// vectorizes (also for AVX2: cpu_clones.h): spanLighting for a row span,
+// spanLightingLanes for pixels given by their edge values; both then
+// spanLightingFrom the screen-space weights.
+KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m, float* __restrict__ b0,
+                                                  float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
+                                                  float* __restrict__ ny, float* __restrict__ nz,
+                                                  float* __restrict__ diffuse);
 KOKKOS_FORCEINLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
                                      float* __restrict__ ny, float* __restrict__ nz, float* __restrict__ diffuse) {
   // The edge values step in double, exactly (integers below 2^53), and
@@ -55,6 +61,25 @@ KOKKOS_FORCEINLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, fl
     b1[j] = float(k.s2 + k.a2 * double(j)) * k.ia;
     b2[j] = float(k.s0 + k.a0 * double(j)) * k.ia;
   }
+  spanLightingFrom(k, m, b0, b1, b2, nx, ny, nz, diffuse);
+}
+// e0, e1, e2: each pixel's exact edge values (as doubles).
+KOKKOS_FORCEINLINE_FUNCTION void spanLightingLanes(const SpanConsts& k, int32_t m, const double* __restrict__ e0,
+                                                   const double* __restrict__ e1, const double* __restrict__ e2,
+                                                   float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
+                                                   float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
+                                                   float* __restrict__ diffuse) {
+  for (int32_t j = 0; j < m; ++j) {
+    b0[j] = float(e1[j]) * k.ia;
+    b1[j] = float(e2[j]) * k.ia;
+    b2[j] = float(e0[j]) * k.ia;
+  }
+  spanLightingFrom(k, m, b0, b1, b2, nx, ny, nz, diffuse);
+}
+KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m, float* __restrict__ b0,
+                                                  float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
+                                                  float* __restrict__ ny, float* __restrict__ nz,
+                                                  float* __restrict__ diffuse) {
   const float iw0 = k.iw0, iw1 = k.iw1, iw2 = k.iw2;
   const float t00 = k.t00, t10 = k.t10, t20 = k.t20, t01 = k.t01, t11 = k.t11, t21 = k.t21;
   const float3 n0 = k.n0, n1 = k.n1, n2 = k.n2, q0 = k.q0, q1 = k.q1, q2 = k.q2, eye = k.eye;
@@ -97,6 +122,13 @@ KOKKOS_FORCEINLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, fl
       diffuse[j] = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);  // exactly ambient without the headlight
     }
 }
+RAST_CPU_CLONES void spanLightingLanesWide(const SpanConsts& k, int32_t m, const double* __restrict__ e0,
+                                           const double* __restrict__ e1, const double* __restrict__ e2,
+                                           float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
+                                           float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
+                                           float* __restrict__ diffuse) {
+  spanLightingLanes(k, m, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+}
 // The same, built also for AVX2; worth its indirect call on longer spans.
 RAST_CPU_CLONES void spanLightingWide(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1,
                                       float* __restrict__ b2, float* __restrict__ nx, float* __restrict__ ny,
@@ -118,7 +150,8 @@ KOKKOS_FORCEINLINE_FUNCTION void packSpan(int32_t mb, int32_t m, const float* __
     packed[j] = encodeSrgb8Packed(r[j] * d + 0.0f, table) | encodeSrgb8Packed(g[j] * d + 0.0f, table) << 8 |
                 encodeSrgb8Packed(b[j] * d + 0.0f, table) << 16 | uint32_t(int32_t(al)) << 24;
   }
-  for (int32_t j = 0; j < m; ++j) dst[j] = packed[j];  // the span only
+  const int32_t n = m < mb ? m : mb;  // m <= mb (the bound helps the compiler see packed[] is set)
+  for (int32_t j = 0; j < n; ++j) dst[j] = packed[j];  // the span only
 }
 RAST_CPU_CLONES void packSpanWide(int32_t mb, int32_t m, const float* __restrict__ r, const float* __restrict__ g,
                                   const float* __restrict__ b, const float* __restrict__ a,
@@ -324,10 +357,94 @@ struct ShadeSpans : Shade {
   // The rows of a finished tile of the fused binned raster (shade_stage.cpp):
   // w x h pixels from (tx0, ty0), ids (raster index + 1) and depth bits in
   // rows of `stride`.
+  //
+  // A triangle's runs on different rows of the tile are shaded together, up
+  // to kMaxSpanRun pixels at a time (shadeLanes): the triangles of a dense
+  // mesh cover a few pixels of each row, and shading them row by row paid a
+  // span's fixed cost and a partly empty vector for each.
+  static constexpr int32_t kMaxTileRuns = 1024;
+  static constexpr int32_t kBatchLookahead = 64;  // runs searched for a batch's triangle (bounds the cost)
+  static constexpr int32_t kBatchRunMax = 16;     // runs from this long are shaded as row spans at once
   KOKKOS_INLINE_FUNCTION void shadeTile(int32_t tx0, int32_t ty0, int32_t w, int32_t h, int32_t stride,
                                         const uint32_t* ib, const uint32_t* zb) const {
     SpanTriCache cache;
-    for (int32_t r = 0; r < h; ++r) shadeRow(tx0, ty0 + r, w, ib + r * stride, zb + r * stride, cache);
+    if (w * h > kMaxTileRuns || w > kMaxSpanRun) {
+      for (int32_t r = 0; r < h; ++r) shadeRow(tx0, ty0 + r, w, ib + r * stride, zb + r * stride, cache);
+      return;
+    }
+    // Rows: ids, depth, background and lines at once; triangles' runs listed.
+    uint32_t runId[kMaxTileRuns];
+    int32_t runAt[kMaxTileRuns];  // row in the tile << 16 | column
+    int32_t runLen[kMaxTileRuns];
+    int32_t nr = 0;
+    for (int32_t r = 0; r < h; ++r) {
+      const int32_t Y = ty0 + r;
+      const int64_t row = int64_t(Y) * width + tx0;
+      const uint32_t* idx = ib + r * stride;
+      const uint32_t* depthBits = zb + r * stride;
+      if (p.wantDepth)
+        for (int32_t j = 0; j < w; ++j) depthOut(row + j) = bitsFloat(depthBits[j]);
+      if (p.wantPrimId)
+        for (int32_t j = 0; j < w; ++j) {
+          const uint32_t id = idx[j];
+          primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
+        }
+      for (int32_t j = 0; j < w;) {
+        const uint32_t id = idx[j];
+        const int32_t k = runEnd(idx, j, w, id);
+        if (id == 0) {
+          if (p.floatOut) {
+            for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
+          } else {
+            uint32_t* const dst = color.data() + row;
+            const uint32_t bg = p.backgroundPacked;
+            for (int32_t m = j; m < k; ++m) dst[m] = bg;
+          }
+        } else if ((id - 1) & kLineFlag) {
+          SpanTri& st = lookup(id - 1, cache);
+          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, tx0 + m, Y, 0, 0, 0.0f, nullptr));
+        } else if (k - j >= kBatchRunMax) {  // a long run is a full vector by itself
+          span(lookup(id - 1, cache), row + j, tx0 + j, Y, k - j);
+        } else {
+          runId[nr] = id;
+          runAt[nr] = r << 16 | j;
+          runLen[nr] = k - j;
+          ++nr;
+        }
+        j = k;
+      }
+    }
+    // Batches of one triangle's runs, in the order their first runs appear.
+    int64_t lanes[kMaxSpanRun];
+    double e0[kMaxSpanRun], e1[kMaxSpanRun], e2[kMaxSpanRun];
+    for (int32_t q = 0; q < nr; ++q) {
+      if (runLen[q] == 0) continue;  // already shaded in an earlier batch
+      const uint32_t id = runId[q];
+      SpanTri& st = lookup(id - 1, cache);
+      const Edges& e = st.f.e;
+      const double a0 = double(e.A[0]), a1 = double(e.A[1]), a2 = double(e.A[2]);
+      int32_t m = 0;
+      const int32_t last = q + kBatchLookahead < nr ? q + kBatchLookahead : nr;
+      for (int32_t t = q; t < last; ++t) {
+        if (runId[t] != id || runLen[t] == 0) continue;
+        const int32_t len = runLen[t];
+        if (m + len > kMaxSpanRun) break;
+        const int32_t X = tx0 + (runAt[t] & 0xffff), Y = ty0 + (runAt[t] >> 16);
+        // Exact edge values at the run's first pixel, stepped exactly in double.
+        const double c0 = double(e.eval(0, X, Y)), c1 = double(e.eval(1, X, Y)), c2 = double(e.eval(2, X, Y));
+        const int64_t at = int64_t(Y) * width + X;
+        for (int32_t i = 0; i < len; ++i) {
+          e0[m + i] = c0 + a0 * double(i);
+          e1[m + i] = c1 + a1 * double(i);
+          e2[m + i] = c2 + a2 * double(i);
+          lanes[m + i] = at + i;
+        }
+        m += len;
+        runLen[t] = 0;
+      }
+      for (int32_t i = m; i < spanBlocks(m); ++i) e0[i] = e1[i] = e2[i] = 0.0;  // the last block's spare lanes
+      shadeLanes(st, m, 0, lanes, e0, e1, e2);
+    }
   }
 
   // A tile no triangle touches: background, and the cleared depth and ids
@@ -441,8 +558,20 @@ struct ShadeSpans : Shade {
 
   // Pixels [xa, xa + m) of row Y, all of st's triangle (a raster triangle).
   KOKKOS_INLINE_FUNCTION void span(SpanTri& st, int64_t out, int32_t xa, int32_t Y, int32_t m) const {
+    const Edges& e = st.f.e;
+    SpanConsts& k = st.k;
+    k.s1 = double(e.eval(1, xa, Y));
+    k.s2 = double(e.eval(2, xa, Y));
+    k.s0 = double(e.eval(0, xa, Y));
+    shadeLanes(st, m, out, nullptr, nullptr, nullptr, nullptr);
+  }
+
+  // m pixels of st's triangle: a row span from pixel `out` on (lanes null),
+  // or any pixels, given by their indices and exact edge values (lanes:
+  // indices, e0, e1, e2; whole blocks of them).
+  KOKKOS_INLINE_FUNCTION void shadeLanes(SpanTri& st, int32_t m, int64_t out, const int64_t* lanes, const double* e0,
+                                         const double* e1, const double* e2) const {
     const TriFrag& f = st.f;
-    const Edges& e = f.e;
     float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
     float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
     float diffuse[kMaxSpanRun];
@@ -451,17 +580,19 @@ struct ShadeSpans : Shade {
     // edge 1, l1 from edge 2, l2 from edge 0), then the perspective-correct
     // weights in the drawn triangle, the normal, the position and the
     // headlight of every pixel (Shade::bary, shadeFragment): spanLighting.
-    SpanConsts& k = st.k;
-    k.s1 = double(e.eval(1, xa, Y));
-    k.s2 = double(e.eval(2, xa, Y));
-    k.s0 = double(e.eval(0, xa, Y));
+    const SpanConsts& k = st.k;
     // Lanes computed: a long span's loops (AVX2 clones) run over whole blocks;
     // a short one's inline loops over its pixels only (one pixel each on
     // scenes of tiny triangles).
     const bool wide = m >= kSpanWideMin;
     const int32_t mb = wide ? spanBlocks(m) : m;
-    if (wide) spanLightingWide(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
-    else spanLighting(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
+    if (lanes) {
+      if (wide) spanLightingLanesWide(k, mb, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+      else spanLightingLanes(k, mb, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+    } else {
+      if (wide) spanLightingWide(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
+      else spanLighting(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
+    }
     if (!p.headlight) {
       const int nl = int(lights.extent(0));
       for (int l = 0; l < nl; ++l) {
@@ -493,15 +624,18 @@ struct ShadeSpans : Shade {
       }
     }
     if (!p.floatOut) {
-      uint32_t* dst = color.data() + out;
+      uint32_t px[kMaxSpanRun];
+      uint32_t* dst = lanes ? px : color.data() + out;
       if (wide) packSpanWide(mb, m, br, bg, bb, ba, diffuse, encodePacked, dst);
       else packSpan(mb, m, br, bg, bb, ba, diffuse, encodePacked, dst);
+      if (lanes)
+        for (int32_t j = 0; j < m; ++j) color(lanes[j]) = px[j];
       return;
     }
     for (int32_t j = 0; j < m; ++j) {
       const float d = diffuse[j];
       // rgb * diffuse + spec (0 in Lambert), as shadeFragment adds it
-      hdr(out + j) = float4{br[j] * d + 0.0f, bg[j] * d + 0.0f, bb[j] * d + 0.0f, ba[j]};
+      hdr(lanes ? lanes[j] : out + j) = float4{br[j] * d + 0.0f, bg[j] * d + 0.0f, bb[j] * d + 0.0f, ba[j]};
     }
   }
 

@@ -260,13 +260,28 @@ TEST_CASE("the span kernel's bilinear texturing gives sampleBilinear's bits", "[
 }
 
 TEST_CASE("textured frames with texture coordinates outside 0..1 shade the same colours in spans", "[cpu-paths]") {
-  // A quad whose texture coordinates run from -2.3 to 3.6, seen in
+  // A floor whose texture coordinates run from -2.3 to 3.6, seen in
   // perspective, with every pair of wrap modes: the span kernel (fused binned
   // raster and the visibility-buffer spans) against one pixel per work item,
-  // colour for colour to the bit.
-  const std::vector<float3> p = {{-1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, -6.0f}, {-1.0f, 0.0f, -6.0f}};
-  const std::vector<float2> uv = {{-2.3f, -1.7f}, {3.6f, -1.7f}, {3.6f, 2.9f}, {-2.3f, 2.9f}};
-  Scene s = trianglesScene(p, {0, 1, 2, 0, 2, 3}, &uv);
+  // colour for colour to the bit. The floor is a grid of small triangles at
+  // the back and large ones at the front, so that a tile's short runs are
+  // shaded in batches across rows and long ones as row spans.
+  std::vector<float3> p;
+  std::vector<float2> uv;
+  std::vector<uint32_t> idx;
+  const int N = 24;
+  for (int j = 0; j <= N; ++j)
+    for (int i = 0; i <= N; ++i) {
+      const float fx = float(i) / N, fz = float(j) / N;
+      p.push_back({-1.0f + 2.0f * fx, 0.0f, -1.0f - 5.0f * fz * fz});  // rows bunch up towards the front
+      uv.push_back({-2.3f + 5.9f * fx, -1.7f + 4.6f * fz});
+    }
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i < N; ++i) {
+      const uint32_t a = uint32_t(j * (N + 1) + i), b = a + 1, c = a + N + 1, d = c + 1;
+      idx.insert(idx.end(), {a, b, d, a, d, c});
+    }
+  Scene s = trianglesScene(p, idx, &uv);
   Texture tex;
   tex.width = 7;
   tex.height = 5;
