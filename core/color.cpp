@@ -43,4 +43,16 @@ std::vector<float> srgbEncodeThresholds() {
   return thr;
 }
 
+std::vector<uint32_t> srgbEncodePacked() {
+  const std::vector<float> thr = srgbEncodeThresholds();
+  std::vector<uint32_t> packed(kSrgbBuckets);
+  for (uint32_t k = 0; k < kSrgbBuckets; ++k) {
+    const uint32_t b = uint32_t(thr[kSrgbBucketBase + k]);
+    const uint32_t t = floatBits(thr[b + 1]);  // t(256) = +inf lies in no bucket
+    const uint32_t low = (t >> kSrgbBucketShift) == kSrgbBucketFirst + k ? (t & 0xffffu) : 0x10000u;
+    packed[k] = b << 17 | low;
+  }
+  return packed;
+}
+
 }  // namespace rast

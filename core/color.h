@@ -25,6 +25,8 @@ std::vector<float> srgbDecodeTable();      // 256 entries: byte -> linear
 // linear values in [t(b), t(b+1))), +inf at 256, then kSrgbBuckets starting
 // bytes (see encodeSrgb8).
 std::vector<float> srgbEncodeThresholds();
+// kSrgbBuckets entries for encodeSrgb8Packed, from srgbEncodeThresholds().
+std::vector<uint32_t> srgbEncodePacked();
 
 // encodeSrgb8's buckets: floats in [2^-13, 1) by exponent and top 7 mantissa
 // bits (13 octaves of 128). Each holds the byte its lower end encodes to. A
@@ -61,6 +63,22 @@ KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8Flat(float c, const float* t) {
   const int32_t k2 = k1 < int32_t(kSrgbBuckets) - 1 ? k1 : int32_t(kSrgbBuckets) - 1;
   const int32_t b = int32_t(t[kSrgbBucketBase + k2]);
   const int32_t r = b + (t[b + 1] <= c ? 1 : 0);  // t(b + 1) is at most t(256) = +inf
+  return uint32_t(c >= 1.0f ? 255 : (c >= kSrgbBucketMin ? r : 0));  // NaN, negatives, -0: 0
+}
+
+// encodeSrgb8 with one table read instead of two, for the CPU's span loops
+// (core/shade_spans.h), where each read is a gather: each bucket's entry
+// (srgbEncodePacked) holds its starting byte b (bits 17 up) and the low 16
+// bits of t(b + 1) when that threshold lies in the bucket (same upper bits),
+// else 0x10000. t(b + 1) <= c then compares the low bits only. The same bytes
+// for every input.
+KOKKOS_INLINE_FUNCTION uint32_t encodeSrgb8Packed(float c, const uint32_t* packed) {
+  const uint32_t bits = floatBits(c);
+  const int32_t k = int32_t(bits >> kSrgbBucketShift) - int32_t(kSrgbBucketFirst);
+  const int32_t k1 = k > 0 ? k : 0;  // any bucket for values out of range: the result is selected away
+  const int32_t k2 = k1 < int32_t(kSrgbBuckets) - 1 ? k1 : int32_t(kSrgbBuckets) - 1;
+  const uint32_t e = packed[k2];
+  const int32_t r = int32_t(e >> 17) + (int32_t(bits & 0xffffu) >= int32_t(e & 0x1ffffu) ? 1 : 0);
   return uint32_t(c >= 1.0f ? 255 : (c >= kSrgbBucketMin ? r : 0));  // NaN, negatives, -0: 0
 }
 

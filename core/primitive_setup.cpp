@@ -18,6 +18,7 @@
 // for a million triangles). The total goes to counters(kRasterTris) on the
 // device, so no host round trip is needed inside the frame.
 #include <cstring>
+#include <type_traits>
 
 #include "raster_common.h"
 #include "stages.h"
@@ -233,6 +234,59 @@ struct WriteChunks {
   }
 };
 
+// The write pass on a host backend, where a team is one thread that walks
+// its chunk in order: each raster triangle goes straight to its place, the
+// running offset standing in for the scan over scratch, and nothing is staged
+// (WriteChunks' scratch and 16-byte copies serve a GPU's coalescing). The
+// same triangles at the same offsets.
+struct WriteChunksHost {
+  SetupCommon c;
+  DView<uint32_t> chunkOffset, counters;
+  DView<RasterTri> tris;
+  uint32_t capacity, numTris;
+  int32_t single;  // one chunk: offset 0, and its count is the total (as WriteChunks)
+
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
+    const uint32_t first = chunk * kSetupChunk, len = chunkLength(chunk, numTris);
+    const uint32_t base = single ? 0u : chunkOffset(chunk);
+    uint32_t o = base;
+    for (uint32_t i = 0; i < len; ++i) {
+      bool clipped;
+      RasterTri rt;
+      const uint32_t k = setupOne<true>(c, first + i, rt, clipped);
+      if (!clipped) {
+        if (k == 1 && o < capacity) tris(o) = rt;
+        o += k;
+        continue;
+      }
+      uint32_t vi[3];  // clipped (rare): clip again and write the pieces, as WriteChunks does
+      bool frontCCW;
+      c.corners(first + i, vi, frontCCW);
+      c.clipAndSetUp<true>(first + i, vi, frontCCW, [&](const RasterTri& piece) {
+        if (o < capacity) tris(o) = piece;
+        ++o;
+      });
+    }
+    if (single) counters(kRasterTris) = o - base;
+  }
+};
+
+// Launches the write pass: WriteChunks' teams on GPUs, WriteChunksHost on
+// host backends (not built for GPUs).
+template <bool kHost>
+void launchWrite(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool single) {
+  if constexpr (kHost) {
+    using Host = std::conditional_t<kHost, WriteChunksHost, void>;  // dependent: not built for GPUs
+    Kokkos::parallel_for("rast::setup::write", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
+                         Host{c, f.chunkOffset, f.counters, f.tris, f.triCapacity, numTris, single ? 1 : 0});
+  } else {
+    Kokkos::parallel_for("rast::setup::write",
+                         lightweight(TeamPolicy(int(chunks), kTeamSize))
+                             .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
+                         WriteChunks{c, f.chunkOffset, f.counters, f.tris, f.triCapacity, numTris, single ? 1 : 0});
+  }
+}
+
 }  // namespace
 
 void scanExclusive(const char* label, const DView<uint32_t>& data, uint32_t n, const DView<uint32_t>& counters, int slot) {
@@ -255,11 +309,7 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack) {
   if (chunks > 1)
     Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)), CountChunks{c, f.chunkOffset, s.numTris});
   if (!single) scanExclusive("rast::setup::scan", f.chunkOffset, chunks, f.counters, kRasterTris);
-  if (chunks > 0)
-    Kokkos::parallel_for("rast::setup::write",
-                         lightweight(TeamPolicy(int(chunks), kTeamSize))
-                             .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
-                         WriteChunks{c, f.chunkOffset, f.counters, f.tris, f.triCapacity, s.numTris, single ? 1 : 0});
+  if (chunks > 0) launchWrite<!kOnDevice>(c, f, chunks, s.numTris, single);
 }
 
 }  // namespace rast

@@ -21,6 +21,17 @@ namespace rast {
 namespace shading {
 
 constexpr int kMaxSpanRun = 64;  // longest run a ShadeSpans work item takes
+// A span of kSpanWideMin pixels or more runs the AVX2 loops over whole blocks
+// of kSpanBlock pixels (past the span's end into the spare room of its
+// arrays, extrapolating the plane; nothing past the end is stored outside
+// them), so that a short span is one vector instead of a scalar remainder
+// loop. A single pixel (most of them on scenes of tiny triangles) runs the
+// inline loops over itself only. (Measured on duck, cow, engine, tiny: 2
+// beats 4 and 8.)
+constexpr int kSpanBlock = 8;
+constexpr int kSpanWideMin = 2;
+static_assert(kMaxSpanRun % kSpanBlock == 0, "span arrays hold whole blocks");
+KOKKOS_INLINE_FUNCTION int32_t spanBlocks(int32_t m) { return (m + kSpanBlock - 1) & ~(kSpanBlock - 1); }
 
 // What spanLighting needs of a span's triangle, the camera and the light.
 struct SpanConsts {
@@ -33,8 +44,14 @@ struct SpanConsts {
 };
 
 // The arithmetic of a span, as loops over its pixels that the compiler
-// vectorizes (also for AVX2: cpu_clones.h).
-KOKKOS_INLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
+// vectorizes (also for AVX2: cpu_clones.h): spanLighting for a row span,
+// spanLightingLanes for pixels given by their edge values; both then
+// spanLightingFrom the screen-space weights.
+KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m, float* __restrict__ b0,
+                                                  float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
+                                                  float* __restrict__ ny, float* __restrict__ nz,
+                                                  float* __restrict__ diffuse);
+KOKKOS_FORCEINLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
                                      float* __restrict__ ny, float* __restrict__ nz, float* __restrict__ diffuse) {
   // The edge values step in double, exactly (integers below 2^53), and
   // float(double(e)) rounds as float(e) does, so the weights are
@@ -44,6 +61,25 @@ KOKKOS_INLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* 
     b1[j] = float(k.s2 + k.a2 * double(j)) * k.ia;
     b2[j] = float(k.s0 + k.a0 * double(j)) * k.ia;
   }
+  spanLightingFrom(k, m, b0, b1, b2, nx, ny, nz, diffuse);
+}
+// e0, e1, e2: each pixel's exact edge values (as doubles).
+KOKKOS_FORCEINLINE_FUNCTION void spanLightingLanes(const SpanConsts& k, int32_t m, const double* __restrict__ e0,
+                                                   const double* __restrict__ e1, const double* __restrict__ e2,
+                                                   float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
+                                                   float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
+                                                   float* __restrict__ diffuse) {
+  for (int32_t j = 0; j < m; ++j) {
+    b0[j] = float(e1[j]) * k.ia;
+    b1[j] = float(e2[j]) * k.ia;
+    b2[j] = float(e0[j]) * k.ia;
+  }
+  spanLightingFrom(k, m, b0, b1, b2, nx, ny, nz, diffuse);
+}
+KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m, float* __restrict__ b0,
+                                                  float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
+                                                  float* __restrict__ ny, float* __restrict__ nz,
+                                                  float* __restrict__ diffuse) {
   const float iw0 = k.iw0, iw1 = k.iw1, iw2 = k.iw2;
   const float t00 = k.t00, t10 = k.t10, t20 = k.t20, t01 = k.t01, t11 = k.t11, t21 = k.t21;
   const float3 n0 = k.n0, n1 = k.n1, n2 = k.n2, q0 = k.q0, q1 = k.q1, q2 = k.q2, eye = k.eye;
@@ -86,6 +122,13 @@ KOKKOS_INLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, float* 
       diffuse[j] = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);  // exactly ambient without the headlight
     }
 }
+RAST_CPU_CLONES void spanLightingLanesWide(const SpanConsts& k, int32_t m, const double* __restrict__ e0,
+                                           const double* __restrict__ e1, const double* __restrict__ e2,
+                                           float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
+                                           float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
+                                           float* __restrict__ diffuse) {
+  spanLightingLanes(k, m, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+}
 // The same, built also for AVX2; worth its indirect call on longer spans.
 RAST_CPU_CLONES void spanLightingWide(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1,
                                       float* __restrict__ b2, float* __restrict__ nx, float* __restrict__ ny,
@@ -93,23 +136,198 @@ RAST_CPU_CLONES void spanLightingWide(const SpanConsts& k, int32_t m, float* __r
   spanLighting(k, m, b0, b1, b2, nx, ny, nz, diffuse);
 }
 
-// A span's colours, lit and packed as sRGB RGBA8 (Shade::display of
-// shadeFragment's rgb * diffuse + spec, spec being 0 in Lambert).
-KOKKOS_INLINE_FUNCTION void packSpan(int32_t m, const float4* __restrict__ base, const float* __restrict__ diffuse,
-                                     const float* __restrict__ table, uint32_t* __restrict__ dst) {
-  for (int32_t j = 0; j < m; ++j) {
+// A span's colours (r, g, b, a: the base colour), lit and packed as sRGB
+// RGBA8 (Shade::display of shadeFragment's rgb * diffuse + spec, spec being 0
+// in Lambert).
+KOKKOS_FORCEINLINE_FUNCTION void packSpan(int32_t mb, int32_t m, const float* __restrict__ r, const float* __restrict__ g,
+                                     const float* __restrict__ b, const float* __restrict__ a,
+                                     const float* __restrict__ diffuse, const uint32_t* __restrict__ table,
+                                     uint32_t* __restrict__ dst) {
+  uint32_t packed[kMaxSpanRun];  // mb lanes computed, the span's m stored
+  for (int32_t j = 0; j < mb; ++j) {
     const float d = diffuse[j];
-    const float a = clamp01(base[j].w) * 255.0f + 0.5f;  // unorm8, in [0.5, 255.5]: int conversion is exact
-    dst[j] = encodeSrgb8Flat(base[j].x * d + 0.0f, table) | encodeSrgb8Flat(base[j].y * d + 0.0f, table) << 8 |
-             encodeSrgb8Flat(base[j].z * d + 0.0f, table) << 16 | uint32_t(int32_t(a)) << 24;
+    const float al = clamp01(a[j]) * 255.0f + 0.5f;  // unorm8, in [0.5, 255.5]: int conversion is exact
+    packed[j] = encodeSrgb8Packed(r[j] * d + 0.0f, table) | encodeSrgb8Packed(g[j] * d + 0.0f, table) << 8 |
+                encodeSrgb8Packed(b[j] * d + 0.0f, table) << 16 | uint32_t(int32_t(al)) << 24;
   }
+  const int32_t n = m < mb ? m : mb;  // m <= mb (the bound helps the compiler see packed[] is set)
+  for (int32_t j = 0; j < n; ++j) dst[j] = packed[j];  // the span only
 }
-RAST_CPU_CLONES void packSpanWide(int32_t m, const float4* __restrict__ base, const float* __restrict__ diffuse,
-                                  const float* __restrict__ table, uint32_t* __restrict__ dst) {
-  packSpan(m, base, diffuse, table, dst);
+RAST_CPU_CLONES void packSpanWide(int32_t mb, int32_t m, const float* __restrict__ r, const float* __restrict__ g,
+                                  const float* __restrict__ b, const float* __restrict__ a,
+                                  const float* __restrict__ diffuse, const uint32_t* __restrict__ table,
+                                  uint32_t* __restrict__ dst) {
+  packSpan(mb, m, r, g, b, a, diffuse, table, dst);
 }
 
+// Bilinear texturing of a span (Shade::shadeFragment's uvAt and
+// sampleBilinear, the same float operations in the same order), in two loops
+// the compiler vectorizes: where each pixel's four texels are and their
+// weights, then the fetches (gathers with AVX2), sRGB decoding and blend.
+struct SpanTex {
+  const uint32_t* texels;  // the texture's level 0
+  const float* lut;        // sRGB byte -> linear
+  int32_t width, height, wrapS, wrapT;
+  float u0, u1, u2, v0, v1, v2;  // the drawn vertices' texture coordinates
+  int32_t indexable;             // fewer than 2^31 texels: int32 indices (else: per pixel)
+};
+
+// Float selects on the bits: GCC turns float ?: into branches that its
+// if-conversion then refuses, so that a loop of them does not vectorize.
+KOKKOS_FORCEINLINE_FUNCTION float selectFloat(bool c, float a, float b) {
+  const uint32_t mask = 0u - uint32_t(c);
+  return bitsFloat((floatBits(a) & mask) | (floatBits(b) & ~mask));
+}
+
+// floorTexel (the host's) without branches: the same value for every input.
+// Magnitudes from 2^23 up, infinities and NaN are their own floor; the
+// conversion sees +0 for them.
+KOKKOS_FORCEINLINE_FUNCTION float floorTexelFlat(float x) {
+  const bool small = (floatBits(x) & 0x7fffffffu) < 0x4b000000u;  // |x| < 2^23
+  const float xs = selectFloat(small, x, 0.0f);
+  const float t = float(int32_t(xs));  // towards zero
+  const float f = t - selectFloat(t > xs, 1.0f, 0.0f);  // t - 0 is t (t is never -0)
+  return selectFloat(small, f, x);
+}
+
+// reduceCoord without branches.
+KOKKOS_FORCEINLINE_FUNCTION float reduceCoordFlat(float u, int32_t mode) {
+  const float clamped = selectFloat(u < -1.0f, -1.0f, selectFloat(u > 2.0f, 2.0f, u));
+  const float periodic = u - 2.0f * floorTexelFlat(u * 0.5f);
+  return selectFloat(isFinite(u), mode == WrapClamp ? clamped : periodic, 0.0f);
+}
+
+// wrapIndex without branches or division, for the indices reduceCoordFlat's
+// coordinates give (repeat and mirror: within [-1, 2n]); `bad` is set where i
+// lies outside the range where these forms equal wrapIndex (then the caller
+// samples per pixel).
+KOKKOS_FORCEINLINE_FUNCTION int32_t wrapIndexFlat(int32_t i, int32_t n, int32_t mode, int32_t& bad) {
+  const int32_t c = i < 0 ? 0 : (i >= n ? n - 1 : i);
+  int32_t r = i < 0 ? i + n : i;  // repeat, for i in [-n, 3n)
+  r = r >= n ? r - n : r;
+  r = r >= n ? r - n : r;
+  const int32_t p2 = 2 * n;
+  int32_t q = i < 0 ? i + p2 : i;  // mirror, for i in [-2n, 4n)
+  q = q >= p2 ? q - p2 : q;
+  q = q < n ? q : p2 - 1 - q;
+  bad |= (mode != WrapClamp) & ((i < -n) | (i >= 3 * n));
+  return mode == WrapClamp ? c : (mode == WrapMirror ? q : r);
+}
+
+// One pixel of bilinearSetup; kRepeat: both wrap modes are repeat (the
+// common case: the other modes' selects are left out).
+template <bool kRepeat>
+KOKKOS_FORCEINLINE_FUNCTION void bilinearPixel(const SpanTex& t, int32_t j, const float* __restrict__ b0,
+                                          const float* __restrict__ b1, const float* __restrict__ b2,
+                                          int32_t* __restrict__ i00, int32_t* __restrict__ i10,
+                                          int32_t* __restrict__ i01, int32_t* __restrict__ i11,
+                                          float* __restrict__ fa, float* __restrict__ fb, int32_t& bad) {
+  const int32_t w = t.width, h = t.height, ws = kRepeat ? int32_t(WrapRepeat) : t.wrapS,
+                wt = kRepeat ? int32_t(WrapRepeat) : t.wrapT;
+  const float u = t.u0 * b0[j] + t.u1 * b1[j] + t.u2 * b2[j], v = t.v0 * b0[j] + t.v1 * b1[j] + t.v2 * b2[j];  // uvAt
+  const float fu = reduceCoordFlat(u, ws) * float(w) - 0.5f, fv = reduceCoordFlat(v, wt) * float(h) - 0.5f;
+  const float flu = floorTexelFlat(fu), flv = floorTexelFlat(fv);
+  fa[j] = fu - flu;
+  fb[j] = fv - flv;
+  const int32_t x0 = int32_t(flu), y0 = int32_t(flv);
+  uint32_t xa, xb, ya, yb;
+  if (kRepeat) {  // repeat: wrap(i + 1) is wrap(i) + 1, or 0 past the end
+    const int32_t wa = wrapIndexFlat(x0, w, ws, bad), ha = wrapIndexFlat(y0, h, wt, bad);
+    xa = uint32_t(wa);
+    xb = uint32_t(wa + 1 == w ? 0 : wa + 1);
+    ya = uint32_t(ha);
+    yb = uint32_t(ha + 1 == h ? 0 : ha + 1);
+  } else {
+    xa = uint32_t(wrapIndexFlat(x0, w, ws, bad));
+    xb = uint32_t(wrapIndexFlat(x0 + 1, w, ws, bad));
+    ya = uint32_t(wrapIndexFlat(y0, h, wt, bad));
+    yb = uint32_t(wrapIndexFlat(y0 + 1, h, wt, bad));
+  }
+  // below 2^31: a texture's texels are counted in int32 (DeviceScene); signed
+  // indices let AVX2 gather them
+  i00[j] = int32_t(ya * uint32_t(w) + xa);
+  i10[j] = int32_t(ya * uint32_t(w) + xb);
+  i01[j] = int32_t(yb * uint32_t(w) + xa);
+  i11[j] = int32_t(yb * uint32_t(w) + xb);
+}
+
+// Texel indices (i00 .. i11, from the texture's first texel) and the weights'
+// fractions (fa, fb) of m lanes of a span; returns nonzero if
+// some index is outside what wrapIndexFlat covers.
+KOKKOS_FORCEINLINE_FUNCTION int32_t bilinearSetup(const SpanTex& tr, int32_t m, const float* __restrict__ b0,
+                                             const float* __restrict__ b1, const float* __restrict__ b2,
+                                             int32_t* __restrict__ i00, int32_t* __restrict__ i10,
+                                             int32_t* __restrict__ i01, int32_t* __restrict__ i11,
+                                             float* __restrict__ fa, float* __restrict__ fb) {
+  const SpanTex t = tr;  // a local copy: its fields stay in registers across the loop
+  int32_t bad = 0;
+  if (t.wrapS == WrapRepeat && t.wrapT == WrapRepeat) {
+    for (int32_t j = 0; j < m; ++j) bilinearPixel<true>(t, j, b0, b1, b2, i00, i10, i01, i11, fa, fb, bad);
+  } else {
+    for (int32_t j = 0; j < m; ++j) bilinearPixel<false>(t, j, b0, b1, b2, i00, i10, i01, i11, fa, fb, bad);
+  }
+  return bad;
+}
+RAST_CPU_CLONES int32_t bilinearSetupWide(const SpanTex& t, int32_t m, const float* __restrict__ b0,
+                                          const float* __restrict__ b1, const float* __restrict__ b2,
+                                          int32_t* __restrict__ i00, int32_t* __restrict__ i10,
+                                          int32_t* __restrict__ i01, int32_t* __restrict__ i11,
+                                          float* __restrict__ fa, float* __restrict__ fb) {
+  return bilinearSetup(t, m, b0, b1, b2, i00, i10, i01, i11, fa, fb);
+}
+
+// The four texels of each pixel, decoded and blended as sampleBilinear does,
+// times the base colour (r, g, b, a: base * texture).
+KOKKOS_FORCEINLINE_FUNCTION void bilinearBlend(const uint32_t* __restrict__ tx, const float* __restrict__ lut, int32_t m,
+                                          const int32_t* __restrict__ i00, const int32_t* __restrict__ i10,
+                                          const int32_t* __restrict__ i01, const int32_t* __restrict__ i11,
+                                          const float* __restrict__ fa, const float* __restrict__ fb,
+                                          float* __restrict__ r, float* __restrict__ g, float* __restrict__ b,
+                                          float* __restrict__ a) {
+  for (int32_t j = 0; j < m; ++j) {
+    const uint32_t c00 = tx[i00[j]], c10 = tx[i10[j]], c01 = tx[i01[j]], c11 = tx[i11[j]];
+    const float A = fa[j], B = fb[j];
+    const float w00 = (1.0f - A) * (1.0f - B), w10 = A * (1.0f - B), w01 = (1.0f - A) * B, w11 = A * B;
+    r[j] = r[j] * ((lut[int32_t(c00 & 0xff)] * w00 + lut[int32_t(c10 & 0xff)] * w10) + (lut[int32_t(c01 & 0xff)] * w01 + lut[int32_t(c11 & 0xff)] * w11));
+    g[j] = g[j] * ((lut[int32_t((c00 >> 8) & 0xff)] * w00 + lut[int32_t((c10 >> 8) & 0xff)] * w10) +
+                   (lut[int32_t((c01 >> 8) & 0xff)] * w01 + lut[int32_t((c11 >> 8) & 0xff)] * w11));
+    b[j] = b[j] * ((lut[int32_t((c00 >> 16) & 0xff)] * w00 + lut[int32_t((c10 >> 16) & 0xff)] * w10) +
+                   (lut[int32_t((c01 >> 16) & 0xff)] * w01 + lut[int32_t((c11 >> 16) & 0xff)] * w11));
+    // unpackSrgb8's alpha, float(c >> 24) / 255 (below 256: the int conversion is the same)
+    const float a00 = float(int32_t(c00 >> 24)) * (1.0f / 255.0f), a10 = float(int32_t(c10 >> 24)) * (1.0f / 255.0f);
+    const float a01 = float(int32_t(c01 >> 24)) * (1.0f / 255.0f), a11 = float(int32_t(c11 >> 24)) * (1.0f / 255.0f);
+    a[j] = a[j] * ((a00 * w00 + a10 * w10) + (a01 * w01 + a11 * w11));
+  }
+}
+RAST_CPU_CLONES void bilinearBlendWide(const uint32_t* __restrict__ tx, const float* __restrict__ lut, int32_t m,
+                                       const int32_t* __restrict__ i00, const int32_t* __restrict__ i10,
+                                       const int32_t* __restrict__ i01, const int32_t* __restrict__ i11,
+                                       const float* __restrict__ fa, const float* __restrict__ fb,
+                                       float* __restrict__ r, float* __restrict__ g, float* __restrict__ b,
+                                       float* __restrict__ a) {
+  bilinearBlend(tx, lut, m, i00, i10, i01, i11, fa, fb, r, g, b, a);
+}
+
+// What a span needs of its triangle, looked up and computed once per
+// triangle (Shade::prepare, then the triangle's constants of spanLighting and
+// of the texture) and kept in a small cache while a tile or run is shaded:
+// rows of a tile alternate between the same few triangles.
+struct SpanTri {
+  TriFrag f;
+  SpanConsts k;  // all but the span's edge values s0, s1, s2
+  SpanTex tex;
+};
+
+struct SpanTriCache {
+  static constexpr int kSlots = 8;
+  uint32_t key[kSlots] = {~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u};  // slot[s].f.index, together in one line
+  SpanTri slot[kSlots];
+  int next = 0;
+};
+
 struct ShadeSpans : Shade {
+  const uint32_t* encodePacked = nullptr;  // srgbEncodePacked(), host memory (see spansOf)
+
   // Whether this kernel covers a frame of these settings.
   static bool usable(const ShadeParams& p, int samples, int run) {
     return run > 1 && run <= kMaxSpanRun && samples == 1 && p.mode == ShadingMode::Lambert &&
@@ -132,63 +350,140 @@ struct ShadeSpans : Shade {
       idx[j] = uint32_t(key & 0xffffffffu);
       depthBits[j] = uint32_t(key >> 32);
     }
-    shadeRow(x0, Y, n, idx, depthBits);
+    SpanTriCache cache;
+    shadeRow(x0, Y, n, idx, depthBits, cache);
   }
 
-  // Pixels [x0, x0 + n) of row Y, given the visibility keys' halves: raster
-  // index + 1 (0: none) and depth bits. Also called by the fused binned
-  // raster (shade_stage.cpp) with a finished tile's rows.
-  KOKKOS_INLINE_FUNCTION void shadeRow(int32_t x0, int32_t Y, int32_t n, const uint32_t* idx,
-                                       const uint32_t* depthBits) const {
-    const int64_t row = int64_t(Y) * width + x0;
-    if (p.wantDepth)
-      for (int32_t j = 0; j < n; ++j) depthOut(row + j) = bitsFloat(depthBits[j]);
-    if (p.wantPrimId)
-      for (int32_t j = 0; j < n; ++j) {
+  // The rows of a finished tile of the fused binned raster (shade_stage.cpp):
+  // w x h pixels from (tx0, ty0), ids (raster index + 1) and depth bits in
+  // rows of `stride`.
+  //
+  // A triangle's runs on different rows of the tile are shaded together, up
+  // to kMaxSpanRun pixels at a time (shadeLanes): the triangles of a dense
+  // mesh cover a few pixels of each row, and shading them row by row paid a
+  // span's fixed cost and a partly empty vector for each.
+  static constexpr int32_t kMaxTileRuns = 1024;
+  static constexpr int32_t kBatchLookahead = 64;  // runs searched for a batch's triangle (bounds the cost)
+  static constexpr int32_t kBatchRunMax = 16;     // runs from this long are shaded as row spans at once
+  KOKKOS_INLINE_FUNCTION void shadeTile(int32_t tx0, int32_t ty0, int32_t w, int32_t h, int32_t stride,
+                                        const uint32_t* ib, const uint32_t* zb) const {
+    SpanTriCache cache;
+    if (w * h > kMaxTileRuns || w > kMaxSpanRun) {
+      for (int32_t r = 0; r < h; ++r) shadeRow(tx0, ty0 + r, w, ib + r * stride, zb + r * stride, cache);
+      return;
+    }
+    // Rows: ids, depth, background and lines at once; triangles' runs listed.
+    uint32_t runId[kMaxTileRuns];
+    int32_t runAt[kMaxTileRuns];  // row in the tile << 16 | column
+    int32_t runLen[kMaxTileRuns];
+    int32_t nr = 0;
+    for (int32_t r = 0; r < h; ++r) {
+      const int32_t Y = ty0 + r;
+      const int64_t row = int64_t(Y) * width + tx0;
+      const uint32_t* idx = ib + r * stride;
+      const uint32_t* depthBits = zb + r * stride;
+      if (p.wantDepth)
+        for (int32_t j = 0; j < w; ++j) depthOut(row + j) = bitsFloat(depthBits[j]);
+      if (p.wantPrimId)
+        for (int32_t j = 0; j < w; ++j) {
+          const uint32_t id = idx[j];
+          primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
+        }
+      for (int32_t j = 0; j < w;) {
         const uint32_t id = idx[j];
-        primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
-      }
-    TriFrag f;
-    for (int32_t j = 0; j < n;) {
-      const uint32_t id = idx[j];
-      int32_t k = j + 1;
-      while (k < n && idx[k] == id) ++k;
-      if (id == 0) {
-        if (p.floatOut) {
-          for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
+        const int32_t k = runEnd(idx, j, w, id);
+        if (id == 0) {
+          if (p.floatOut) {
+            for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
+          } else {
+            uint32_t* const dst = color.data() + row;
+            const uint32_t bg = p.backgroundPacked;
+            for (int32_t m = j; m < k; ++m) dst[m] = bg;
+          }
+        } else if ((id - 1) & kLineFlag) {
+          SpanTri& st = lookup(id - 1, cache);
+          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, tx0 + m, Y, 0, 0, 0.0f, nullptr));
+        } else if (k - j >= kBatchRunMax) {  // a long run is a full vector by itself
+          span(lookup(id - 1, cache), row + j, tx0 + j, Y, k - j);
         } else {
-          uint32_t* const dst = color.data() + row;  // a plain fill the compiler vectorizes
-          const uint32_t bg = p.backgroundPacked;
-          for (int32_t m = j; m < k; ++m) dst[m] = bg;
+          runId[nr] = id;
+          runAt[nr] = r << 16 | j;
+          runLen[nr] = k - j;
+          ++nr;
         }
-      } else {
-        use(id - 1, f);
-        if ((id - 1) & kLineFlag) {
-          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(f, x0 + m, Y, 0, 0, 0.0f, nullptr));
-        } else {
-          span(f, row + j, x0 + j, Y, k - j);
-        }
+        j = k;
       }
-      j = k;
+    }
+    // Batches of one triangle's runs, in the order their first runs appear.
+    int64_t lanes[kMaxSpanRun];
+    double e0[kMaxSpanRun], e1[kMaxSpanRun], e2[kMaxSpanRun];
+    for (int32_t q = 0; q < nr; ++q) {
+      if (runLen[q] == 0) continue;  // already shaded in an earlier batch
+      const uint32_t id = runId[q];
+      SpanTri& st = lookup(id - 1, cache);
+      const Edges& e = st.f.e;
+      const double a0 = double(e.A[0]), a1 = double(e.A[1]), a2 = double(e.A[2]);
+      int32_t m = 0;
+      const int32_t last = q + kBatchLookahead < nr ? q + kBatchLookahead : nr;
+      for (int32_t t = q; t < last; ++t) {
+        if (runId[t] != id || runLen[t] == 0) continue;
+        const int32_t len = runLen[t];
+        if (m + len > kMaxSpanRun) break;
+        const int32_t X = tx0 + (runAt[t] & 0xffff), Y = ty0 + (runAt[t] >> 16);
+        // Exact edge values at the run's first pixel, stepped exactly in double.
+        const double c0 = double(e.eval(0, X, Y)), c1 = double(e.eval(1, X, Y)), c2 = double(e.eval(2, X, Y));
+        const int64_t at = int64_t(Y) * width + X;
+        for (int32_t i = 0; i < len; ++i) {
+          e0[m + i] = c0 + a0 * double(i);
+          e1[m + i] = c1 + a1 * double(i);
+          e2[m + i] = c2 + a2 * double(i);
+          lanes[m + i] = at + i;
+        }
+        m += len;
+        runLen[t] = 0;
+      }
+      for (int32_t i = m; i < spanBlocks(m); ++i) e0[i] = e1[i] = e2[i] = 0.0;  // the last block's spare lanes
+      shadeLanes(st, m, 0, lanes, e0, e1, e2);
     }
   }
 
-  // Pixels [xa, xa + m) of row Y, all of f's triangle (a raster triangle).
-  KOKKOS_INLINE_FUNCTION void span(const TriFrag& f, int64_t out, int32_t xa, int32_t Y, int32_t m) const {
+  // A tile no triangle touches: background, and the cleared depth and ids
+  // (what shadeRow gives for ids 0 and depth bits of kClearKey).
+  KOKKOS_INLINE_FUNCTION void shadeEmpty(int32_t tx0, int32_t ty0, int32_t w, int32_t h) const {
+    for (int32_t r = 0; r < h; ++r) {
+      const int64_t row = int64_t(ty0 + r) * width + tx0;
+      if (p.wantDepth)
+        for (int32_t j = 0; j < w; ++j) depthOut(row + j) = bitsFloat(uint32_t(kClearKey >> 32));
+      if (p.wantPrimId)
+        for (int32_t j = 0; j < w; ++j) primOut(row + j) = 0;
+      if (p.floatOut) {
+        for (int32_t j = 0; j < w; ++j) hdr(row + j) = p.backgroundFilm;
+      } else {
+        uint32_t* const dst = color.data() + row;
+        const uint32_t bg = p.backgroundPacked;
+        for (int32_t j = 0; j < w; ++j) dst[j] = bg;
+      }
+    }
+  }
+
+  // The cached SpanTri of raster triangle `index`, prepared on a miss.
+  KOKKOS_INLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c) const {
+    for (int s = 0; s < SpanTriCache::kSlots; ++s)
+      if (c.key[s] == index) return c.slot[s];
+    c.key[c.next] = index;
+    SpanTri& st = c.slot[c.next];
+    c.next = c.next + 1 < SpanTriCache::kSlots ? c.next + 1 : 0;
+    prepare(index, st.f);
+    if (!(index & kLineFlag)) prepareSpan(st);
+    return st;
+  }
+
+  // The per-triangle part of span(): spanLighting's constants and the texture's.
+  KOKKOS_INLINE_FUNCTION void prepareSpan(SpanTri& st) const {
+    const TriFrag& f = st.f;
     const RasterTri& t = *f.t;
     const Edges& e = f.e;
-    float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
-    float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
-    float diffuse[kMaxSpanRun];
-    float4 base[kMaxSpanRun];
-    // Screen-space weights from the exact edge values (as Shade::bary: l0 from
-    // edge 1, l1 from edge 2, l2 from edge 0), then the perspective-correct
-    // weights in the drawn triangle, the normal, the position and the
-    // headlight of every pixel (Shade::bary, shadeFragment): spanLighting.
-    SpanConsts k;
-    k.s1 = double(e.eval(1, xa, Y));
-    k.s2 = double(e.eval(2, xa, Y));
-    k.s0 = double(e.eval(0, xa, Y));
+    SpanConsts& k = st.k;
     k.a1 = double(e.A[1]);
     k.a2 = double(e.A[2]);
     k.a0 = double(e.A[0]);
@@ -202,45 +497,174 @@ struct ShadeSpans : Shade {
     k.q0 = f.pos[0]; k.q1 = f.pos[1]; k.q2 = f.pos[2];
     k.eye = p.eye;
     k.ambient = p.ambient;
-    const int headlight = p.headlight;
-    k.headI = headlight ? 1.0f - p.ambient : 0.0f;
-    if (m >= kWideSpan) spanLightingWide(k, m, b0, b1, b2, nx, ny, nz, diffuse);
-    else spanLighting(k, m, b0, b1, b2, nx, ny, nz, diffuse);
-    if (!headlight) {
+    k.headI = p.headlight ? 1.0f - p.ambient : 0.0f;
+    if (f.textured) {
+      SpanTex& x = st.tex;
+      x.texels = texels.data() + f.tex.offset;
+      x.lut = lut.data();
+      x.width = f.tex.width;
+      x.height = f.tex.height;
+      x.wrapS = f.tex.wrapS;
+      x.wrapT = f.tex.wrapT;
+      x.indexable = int64_t(x.width) * int64_t(x.height) < (int64_t(1) << 31);
+      x.u0 = f.uv[0].x; x.u1 = f.uv[1].x; x.u2 = f.uv[2].x;
+      x.v0 = f.uv[0].y; x.v1 = f.uv[1].y; x.v2 = f.uv[2].y;
+    }
+  }
+
+  // End of the run of `id` that starts at j in idx[0, n): four at a time
+  // first (one branch per four pixels of a long run).
+  KOKKOS_INLINE_FUNCTION static int32_t runEnd(const uint32_t* idx, int32_t j, int32_t n, uint32_t id) {
+    int32_t k = j + 1;
+    while (k + 4 <= n && ((idx[k] ^ id) | (idx[k + 1] ^ id) | (idx[k + 2] ^ id) | (idx[k + 3] ^ id)) == 0) k += 4;
+    while (k < n && idx[k] == id) ++k;
+    return k;
+  }
+
+  // Pixels [x0, x0 + n) of row Y, given the visibility keys' halves: raster
+  // index + 1 (0: none) and depth bits.
+  KOKKOS_INLINE_FUNCTION void shadeRow(int32_t x0, int32_t Y, int32_t n, const uint32_t* idx,
+                                       const uint32_t* depthBits, SpanTriCache& cache) const {
+    const int64_t row = int64_t(Y) * width + x0;
+    if (p.wantDepth)
+      for (int32_t j = 0; j < n; ++j) depthOut(row + j) = bitsFloat(depthBits[j]);
+    if (p.wantPrimId)
+      for (int32_t j = 0; j < n; ++j) {
+        const uint32_t id = idx[j];
+        primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
+      }
+    for (int32_t j = 0; j < n;) {
+      const uint32_t id = idx[j];
+      const int32_t k = runEnd(idx, j, n, id);
+      if (id == 0) {
+        if (p.floatOut) {
+          for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
+        } else {
+          uint32_t* const dst = color.data() + row;  // a plain fill the compiler vectorizes
+          const uint32_t bg = p.backgroundPacked;
+          for (int32_t m = j; m < k; ++m) dst[m] = bg;
+        }
+      } else {
+        SpanTri& st = lookup(id - 1, cache);
+        if ((id - 1) & kLineFlag) {
+          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, x0 + m, Y, 0, 0, 0.0f, nullptr));
+        } else {
+          span(st, row + j, x0 + j, Y, k - j);
+        }
+      }
+      j = k;
+    }
+  }
+
+  // Pixels [xa, xa + m) of row Y, all of st's triangle (a raster triangle).
+  KOKKOS_INLINE_FUNCTION void span(SpanTri& st, int64_t out, int32_t xa, int32_t Y, int32_t m) const {
+    const Edges& e = st.f.e;
+    SpanConsts& k = st.k;
+    k.s1 = double(e.eval(1, xa, Y));
+    k.s2 = double(e.eval(2, xa, Y));
+    k.s0 = double(e.eval(0, xa, Y));
+    shadeLanes(st, m, out, nullptr, nullptr, nullptr, nullptr);
+  }
+
+  // m pixels of st's triangle: a row span from pixel `out` on (lanes null),
+  // or any pixels, given by their indices and exact edge values (lanes:
+  // indices, e0, e1, e2; whole blocks of them).
+  KOKKOS_INLINE_FUNCTION void shadeLanes(SpanTri& st, int32_t m, int64_t out, const int64_t* lanes, const double* e0,
+                                         const double* e1, const double* e2) const {
+    const TriFrag& f = st.f;
+    float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
+    float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
+    float diffuse[kMaxSpanRun];
+    float br[kMaxSpanRun], bg[kMaxSpanRun], bb[kMaxSpanRun], ba[kMaxSpanRun];  // base colour
+    // Screen-space weights from the exact edge values (as Shade::bary: l0 from
+    // edge 1, l1 from edge 2, l2 from edge 0), then the perspective-correct
+    // weights in the drawn triangle, the normal, the position and the
+    // headlight of every pixel (Shade::bary, shadeFragment): spanLighting.
+    const SpanConsts& k = st.k;
+    // Lanes computed: a long span's loops (AVX2 clones) run over whole blocks;
+    // a short one's inline loops over its pixels only (one pixel each on
+    // scenes of tiny triangles).
+    const bool wide = m >= kSpanWideMin;
+    const int32_t mb = wide ? spanBlocks(m) : m;
+    if (lanes) {
+      if (wide) spanLightingLanesWide(k, mb, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+      else spanLightingLanes(k, mb, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+    } else {
+      if (wide) spanLightingWide(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
+      else spanLighting(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
+    }
+    if (!p.headlight) {
       const int nl = int(lights.extent(0));
-      for (int k = 0; k < nl; ++k) {
-        const float3 L = lights(k).direction;
-        const float I = lights(k).intensity;
-        for (int32_t j = 0; j < m; ++j) {
+      for (int l = 0; l < nl; ++l) {
+        const float3 L = lights(l).direction;
+        const float I = lights(l).intensity;
+        for (int32_t j = 0; j < mb; ++j) {
           const float ndl = nx[j] * L.x + ny[j] * L.y + nz[j] * L.z;
           diffuse[j] += I * (ndl > 0.0f ? ndl : 0.0f);
         }
       }
     }
-    // Base colour: material, texture (scalar: texel fetches), vertex colour.
-    for (int32_t j = 0; j < m; ++j) base[j] = f.baseColor;
-    if (f.textured) {
-      for (int32_t j = 0; j < m; ++j) {
-        const float2 uv = uvAt(f, b0[j], b1[j], b2[j]);
-        const float4 tc = p.filter == TexFilter::Nearest ? sampleNearest(f.tex, texels, lut, uv.x, uv.y)
-                                                         : sampleBilinear(f.tex, texels, lut, uv.x, uv.y);
-        base[j] = base[j] * tc;
+    // Base colour: material, texture, vertex colour.
+    const float4 bc = f.baseColor;
+    for (int32_t j = 0; j < mb; ++j) {
+      br[j] = bc.x;
+      bg[j] = bc.y;
+      bb[j] = bc.z;
+      ba[j] = bc.w;
+    }
+    if (f.textured) texture(st, m, mb, b0, b1, b2, br, bg, bb, ba);
+    if (hasColor) {
+      const float4 c0 = f.col[0], c1 = f.col[1], c2 = f.col[2];
+      for (int32_t j = 0; j < mb; ++j) {
+        // base * (col0 b0 + col1 b1 + col2 b2), per channel
+        br[j] = br[j] * (c0.x * b0[j] + c1.x * b1[j] + c2.x * b2[j]);
+        bg[j] = bg[j] * (c0.y * b0[j] + c1.y * b1[j] + c2.y * b2[j]);
+        bb[j] = bb[j] * (c0.z * b0[j] + c1.z * b1[j] + c2.z * b2[j]);
+        ba[j] = ba[j] * (c0.w * b0[j] + c1.w * b1[j] + c2.w * b2[j]);
       }
     }
-    if (hasColor) {
-      for (int32_t j = 0; j < m; ++j)
-        base[j] = base[j] * (f.col[0] * b0[j] + f.col[1] * b1[j] + f.col[2] * b2[j]);
-    }
     if (!p.floatOut) {
-      uint32_t* dst = color.data() + out;
-      if (m >= kWideSpan) packSpanWide(m, base, diffuse, encode.data(), dst);
-      else packSpan(m, base, diffuse, encode.data(), dst);
+      uint32_t px[kMaxSpanRun];
+      uint32_t* dst = lanes ? px : color.data() + out;
+      if (wide) packSpanWide(mb, m, br, bg, bb, ba, diffuse, encodePacked, dst);
+      else packSpan(mb, m, br, bg, bb, ba, diffuse, encodePacked, dst);
+      if (lanes)
+        for (int32_t j = 0; j < m; ++j) color(lanes[j]) = px[j];
       return;
     }
     for (int32_t j = 0; j < m; ++j) {
       const float d = diffuse[j];
       // rgb * diffuse + spec (0 in Lambert), as shadeFragment adds it
-      hdr(out + j) = float4{base[j].x * d + 0.0f, base[j].y * d + 0.0f, base[j].z * d + 0.0f, base[j].w};
+      hdr(lanes ? lanes[j] : out + j) = float4{br[j] * d + 0.0f, bg[j] * d + 0.0f, bb[j] * d + 0.0f, ba[j]};
+    }
+  }
+
+  // The base colour times the texture at each pixel of the span (weights b0..b2).
+  // m pixels, mb lanes (as in span()).
+  KOKKOS_INLINE_FUNCTION void texture(const SpanTri& st, int32_t m, int32_t mb, const float* b0, const float* b1,
+                                      const float* b2, float* br, float* bg, float* bb, float* ba) const {
+    const TriFrag& f = st.f;
+    if (p.filter != TexFilter::Nearest && st.tex.indexable) {
+      int32_t i00[kMaxSpanRun], i10[kMaxSpanRun], i01[kMaxSpanRun], i11[kMaxSpanRun];
+      float fa[kMaxSpanRun], fb[kMaxSpanRun];
+      const bool wide = m >= kSpanWideMin;
+      const SpanTex& x = st.tex;
+      const int32_t bad = wide ? bilinearSetupWide(x, mb, b0, b1, b2, i00, i10, i01, i11, fa, fb)
+                               : bilinearSetup(x, mb, b0, b1, b2, i00, i10, i01, i11, fa, fb);
+      if (!bad) {
+        if (wide) bilinearBlendWide(x.texels, x.lut, mb, i00, i10, i01, i11, fa, fb, br, bg, bb, ba);
+        else bilinearBlend(x.texels, x.lut, mb, i00, i10, i01, i11, fa, fb, br, bg, bb, ba);
+        return;
+      }
+    }
+    for (int32_t j = 0; j < m; ++j) {
+      const float2 uv = uvAt(f, b0[j], b1[j], b2[j]);
+      const float4 tc = p.filter == TexFilter::Nearest ? sampleNearest(f.tex, texels, lut, uv.x, uv.y)
+                                                       : sampleBilinear(f.tex, texels, lut, uv.x, uv.y);
+      br[j] = br[j] * tc.x;
+      bg[j] = bg[j] * tc.y;
+      bb[j] = bb[j] * tc.z;
+      ba[j] = ba[j] * tc.w;
     }
   }
 };

@@ -28,6 +28,15 @@ struct DepthRange {
   }
 };
 
+// The span kernel with its host-side encoder table (the host backends share
+// host memory with their kernels).
+shading::ShadeSpans spansOf(const Shade& k) {
+  static const std::vector<uint32_t> packed = srgbEncodePacked();
+  shading::ShadeSpans s{k};
+  s.encodePacked = packed.data();
+  return s;
+}
+
 // The span kernel (shade_spans.h) is compiled for the host backends only: a
 // GPU shades a few pixels per thread and never launches it. Returns whether
 // the kernel clears the visibility buffer behind it (only the per-pixel one:
@@ -37,7 +46,7 @@ bool launchShade(Shade k, int samples, const Range& items) {
   if constexpr (kWithSpans) {
     using Spans = std::conditional_t<kWithSpans, shading::ShadeSpans, Shade>;  // dependent: not built for GPUs
     if (Spans::usable(k.p, samples, k.run)) {
-      Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{k});
+      Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{spansOf(k)});
       return false;
     }
   }
@@ -59,7 +68,10 @@ struct ShadeSink {
   shading::ShadeSpans spans;
   KOKKOS_INLINE_FUNCTION void tile(int32_t tx0, int32_t ty0, int32_t w, int32_t h, const uint32_t* zb,
                                    const uint32_t* ib) const {
-    for (int r = 0; r < h; ++r) spans.shadeRow(tx0, ty0 + r, w, ib + r * kTileSize, zb + r * kTileSize);
+    spans.shadeTile(tx0, ty0, w, h, kTileSize, ib, zb);
+  }
+  KOKKOS_INLINE_FUNCTION void emptyTile(int32_t tx0, int32_t ty0, int32_t w, int32_t h) const {
+    spans.shadeEmpty(tx0, ty0, w, h);
   }
 };
 
@@ -72,7 +84,7 @@ bool launchFused(const Shade& k, FrameBuffers& f) {
     using Policy = Kokkos::RangePolicy<Exec, Kokkos::Schedule<Kokkos::Dynamic>, Kokkos::IndexType<uint32_t>>;
     Kokkos::parallel_for("rast::raster::binned::fine_shade", Policy(0, g.numTiles()),
                          Fine{f.tris, f.tileStart, f.work, f.counters, g, f.vp.width, f.vp.height, f.workCapacity,
-                              ShadeSink{shading::ShadeSpans{k}}});
+                              ShadeSink{spansOf(k)}});
     return true;
   }
   return false;

@@ -5,6 +5,8 @@
 #include "raster_common.h"
 #include "stages.h"
 
+#include <type_traits>
+
 namespace rast {
 namespace {
 
@@ -67,6 +69,59 @@ struct TransformVertices {
   }
 };
 
+// The host backends' vertex stage: a work item takes kHostVertexChunk
+// consecutive vertices and walks the draws they belong to, so that the draw
+// lookup (a binary search) and its matrices are fetched once per draw and
+// chunk rather than once per vertex. The same arithmetic per vertex.
+constexpr uint32_t kHostVertexChunk = 1024;
+template <bool kWorld>
+struct TransformVerticesHost {
+  TransformVertices<kWorld> t;
+  uint32_t numVerts;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
+    const uint32_t v0 = chunk * kHostVertexChunk;
+    const uint32_t v1 = v0 + kHostVertexChunk < numVerts ? v0 + kHostVertexChunk : numVerts;
+    uint32_t d = findRange(t.drawVertStart, t.numDraws, v0);  // the draw of v0; later draws in order
+    for (uint32_t v = v0; v < v1; ++d) {
+      const uint32_t next = d + 1 < t.numDraws ? t.drawVertStart(d + 1) : v1;
+      const uint32_t end = next < v1 ? next : v1;
+      if (v >= end) continue;  // a draw without vertices
+      const DrawGPU& dr = t.draws(d);
+      const mat4f m = t.numDraws == 1 ? t.argMvp : t.mvp(d);
+      mat4f model{};
+      if (kWorld)
+        for (int k = 0; k < 16; ++k) model.m[k] = float(dr.model.m[k]);
+      for (; v < end; ++v) {  // TransformVertices::operator()'s arithmetic
+        const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
+        const float3 p = t.positions(src);
+        const float4 c = mul(m, p);
+        t.clip(v) = c;
+        t.snap(v) = snapOrFlag(c, t.vp, t.gx, t.gy);
+        if (kWorld) {
+          t.worldPos(v) = mulPoint(model, p);
+          t.worldNormal(v) = normalize(mul(dr.normalMatrix, t.normals(src)));
+        }
+      }
+    }
+  }
+};
+
+// Launches the vertex transform: per vertex on GPUs, per chunk of vertices on
+// host backends (not built for GPUs).
+template <bool kHost, bool kWorld>
+void launchTransform(const TransformVertices<kWorld>& t, uint32_t numVerts) {
+  if constexpr (kHost) {
+    using Host = std::conditional_t<kHost, TransformVerticesHost<kWorld>, void>;  // dependent: not built for GPUs
+    const uint32_t chunks = (numVerts + kHostVertexChunk - 1) / kHostVertexChunk;
+    Kokkos::parallel_for("rast::vertex::transform", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
+                         Host{t, numVerts});
+  } else {
+    Kokkos::parallel_for("rast::vertex::transform",
+                         lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, numVerts)), t);
+  }
+}
+
 }  // namespace
 
 void vertexStage(const DeviceScene& s, FrameBuffers& f, const mat4d& viewProj, bool needWorld) {
@@ -79,17 +134,16 @@ void vertexStage(const DeviceScene& s, FrameBuffers& f, const mat4d& viewProj, b
     arg = drawMvp(viewProj, s.hostModels[0]);
   else
     Kokkos::parallel_for("rast::vertex::draw_matrices", Range(0, s.numDraws), DrawMatrices{s.draws, f.mvp, viewProj});
-  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
   if (needWorld) {
     ensureCapacity(f.worldPos, "frame.worldPos", s.numVerts);
     ensureCapacity(f.worldNormal, "frame.worldNormal", s.numVerts);
-    Kokkos::parallel_for("rast::vertex::transform", lightweight(Policy(0, s.numVerts)),
-                         TransformVertices<true>{s.draws, s.drawVertStart, s.numDraws, f.mvp, arg, s.positions, s.normals,
-                                                 f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy});
+    launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.numDraws, f.mvp, arg, s.positions,
+                                                        s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
+                                s.numVerts);
   } else {
-    Kokkos::parallel_for("rast::vertex::transform", lightweight(Policy(0, s.numVerts)),
-                         TransformVertices<false>{s.draws, s.drawVertStart, s.numDraws, f.mvp, arg, s.positions, s.normals,
-                                                  f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy});
+    launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.numDraws, f.mvp, arg, s.positions,
+                                                         s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
+                                s.numVerts);
   }
 }
 

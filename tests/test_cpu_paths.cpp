@@ -5,6 +5,11 @@
 //   kernel (core/shade_spans.h) give the ids, depth and colours of one pixel
 //   per work item (RenderSettings::shadeRun = 1), on scenes that exercise
 //   textures, vertex colours, lights, lines, background and the float film;
+// * the span kernel's vectorized texturing (branch-free floor, coordinate
+//   reduction and wrapping, then the blend) gives sampleBilinear's bits for
+//   every wrap mode and any coordinate, and textured frames whose texture
+//   coordinates leave [0, 1] render the same colours, to the bit, per pixel
+//   and in spans;
 // * the host fine raster of the binned method matches the other methods on
 //   ids and depth bit for bit (also covered by the stability suite), here on
 //   textured models seen whole.
@@ -12,6 +17,8 @@
 
 #include "core/color.h"
 #include "core/device_scene.h"
+#include "core/shade_spans.h"
+#include "core/texture_sampling.h"
 #include "core/gltf_loader.h"
 #include "models/procedural.h"
 #include "test_support.h"
@@ -64,16 +71,20 @@ void compareRuns(const std::string& name, const Scene& s, const Camera& cam, Ren
 
 }  // namespace
 
-TEST_CASE("sRGB bucket encoder equals the binary search over its thresholds", "[cpu-paths]") {
+TEST_CASE("sRGB bucket encoders (two reads, and one packed read) equal the binary search over the thresholds", "[cpu-paths]") {
   const std::vector<float> t = srgbEncodeThresholds();
   REQUIRE(t.size() == kSrgbEncodeTableSize);
   const Kokkos::View<const float*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> table(t.data(), t.size());
+  const std::vector<uint32_t> packed = srgbEncodePacked();
+  REQUIRE(packed.size() == kSrgbBuckets);
   size_t checked = 0, wrong = 0;
   auto check = [&](float c) {
     ++checked;
     const uint32_t want = binarySearchEncode(c, t), got = encodeSrgb8(c, table), flat = encodeSrgb8Flat(c, t.data());
-    if (want != got || want != flat) {
-      if (++wrong <= 5) UNSCOPED_INFO("c = " << c << " (bits " << floatBits(c) << "): " << got << " != " << want);
+    const uint32_t one = encodeSrgb8Packed(c, packed.data());
+    if (want != got || want != flat || want != one) {
+      if (++wrong <= 5)
+        UNSCOPED_INFO("c = " << c << " (bits " << floatBits(c) << "): " << got << ", " << flat << ", " << one << " != " << want);
     }
   };
   // Every 17th float from 0 to past 1, then the neighbourhood of every
@@ -90,6 +101,8 @@ TEST_CASE("sRGB bucket encoder equals the binary search over its thresholds", "[
   CHECK(encodeSrgb8(-std::nanf(""), table) == 0);
   CHECK(encodeSrgb8Flat(std::nanf(""), t.data()) == 0);
   CHECK(encodeSrgb8Flat(-std::nanf(""), t.data()) == 0);
+  CHECK(encodeSrgb8Packed(std::nanf(""), packed.data()) == 0);
+  CHECK(encodeSrgb8Packed(-std::nanf(""), packed.data()) == 0);
   CHECK(checked > 60000000);
   CHECK(wrong == 0);
 }
@@ -143,3 +156,166 @@ TEST_CASE("shading in runs and spans gives the per-pixel images", "[cpu-paths]")
   }
   if (a.empty() && sh.empty()) skipTest("neither assimp's glTF models nor ../shared: textured cases not run");
 }
+
+namespace {
+
+// Coordinates that exercise every branch of the samplers: inside, on texel
+// centres and edges, outside by a little and a lot, negative, huge, non-finite.
+std::vector<float> awkwardCoords() {
+  std::vector<float> c = {0.0f, -0.0f, 0.5f, 1.0f, -1.0f, 2.0f, 3.0f, -3.0f, 0.999999f, 1.000001f, -0.000001f,
+                          1e-30f, -1e-30f, 4194304.5f, -4194304.5f, 8388607.0f, 8388608.0f, -8388608.0f, 8388609.0f,
+                          1e9f, -1e9f, 3.0e38f, -3.0e38f, std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity(), std::nanf(""), -std::nanf("")};
+  for (int i = -400; i <= 400; ++i) c.push_back(float(i) * 0.01237f);
+  for (int i = 0; i < 64; ++i) c.push_back(float(i) / 7.0f - 4.5f);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("the span kernel's branch-free texel addressing equals the per-pixel one", "[cpu-paths]") {
+  for (float x : awkwardCoords()) {
+    for (float s : {1.0f, 0.5f, 540.0f, 1e-3f}) {
+      const float v = x * s;
+      INFO("x = " << v);
+      CHECK(floatBits(shading::floorTexelFlat(v)) == floatBits(floorTexel(v)));
+      for (int32_t mode : {int32_t(WrapRepeat), int32_t(WrapClamp), int32_t(WrapMirror)})
+        CHECK(floatBits(shading::reduceCoordFlat(v, mode)) == floatBits(reduceCoord(v, mode)));
+    }
+  }
+  for (int32_t n : {1, 2, 3, 7, 540}) {
+    for (int32_t mode : {int32_t(WrapRepeat), int32_t(WrapClamp), int32_t(WrapMirror)}) {
+      for (int32_t i = -n; i < 3 * n; ++i) {
+        int32_t bad = 0;
+        INFO("n = " << n << ", mode " << mode << ", i = " << i);
+        CHECK(shading::wrapIndexFlat(i, n, mode, bad) == wrapIndex(i, n, mode));
+        CHECK(bad == 0);
+      }
+      int32_t bad = 0;
+      shading::wrapIndexFlat(3 * n, n, mode, bad);  // outside the closed forms' range: flagged (but for clamp)
+      CHECK(bad == (mode == WrapClamp ? 0 : 1));
+    }
+  }
+}
+
+TEST_CASE("the span kernel's bilinear texturing gives sampleBilinear's bits", "[cpu-paths]") {
+  // A 5x3 texture of distinct colours and alphas (odd sizes: no power of two to hide behind).
+  const int32_t W = 5, H = 3;
+  std::vector<uint32_t> tx(size_t(W) * H);
+  for (int32_t i = 0; i < W * H; ++i)
+    tx[size_t(i)] = uint32_t(17 * i + 3) | uint32_t(255 - 13 * i) << 8 | uint32_t(40 + 11 * i) << 16 | uint32_t(255 - 7 * i) << 24;
+  const std::vector<float> lutv = srgbDecodeTable();
+  const Kokkos::View<const uint32_t*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> T(tx.data(), tx.size());
+  const Kokkos::View<const float*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> L(lutv.data(), lutv.size());
+  const std::vector<float> coords = awkwardCoords();
+  size_t checked = 0;
+  const int32_t modes[3] = {int32_t(WrapRepeat), int32_t(WrapClamp), int32_t(WrapMirror)};
+  for (int32_t ms : modes)
+    for (int32_t mt : modes) {
+      TextureGPU t{0, W, H, ms, mt, 1};
+      shading::SpanTex st{tx.data(), lutv.data(), W, H, ms, mt, 0, 0, 0, 0, 0, 0, 1};
+      // Spans of up to 64 pixels whose weights put u and v anywhere: pixel j
+      // interpolates corner coordinates with weights (b0, b1, b2).
+      for (size_t start = 0; start < coords.size(); start += 61) {
+        const int32_t m = int32_t(std::min<size_t>(61, coords.size() - start));
+        st.u0 = coords[start];
+        st.u1 = coords[(start * 7 + 3) % coords.size()];
+        st.u2 = 0.25f;
+        st.v0 = coords[(start * 13 + 5) % coords.size()];
+        st.v1 = -0.75f;
+        st.v2 = coords[(start * 3 + 1) % coords.size()];
+        float b0[shading::kMaxSpanRun], b1[shading::kMaxSpanRun], b2[shading::kMaxSpanRun];
+        for (int32_t j = 0; j < shading::kMaxSpanRun; ++j) {
+          b0[j] = float(j % 9) / 8.0f;
+          b1[j] = float((j * 5) % 11) / 10.0f - 0.3f;
+          b2[j] = 1.0f - b0[j] - b1[j];
+        }
+        int32_t i00[shading::kMaxSpanRun], i10[shading::kMaxSpanRun], i01[shading::kMaxSpanRun], i11[shading::kMaxSpanRun];
+        float fa[shading::kMaxSpanRun], fb[shading::kMaxSpanRun];
+        float r[shading::kMaxSpanRun], g[shading::kMaxSpanRun], b[shading::kMaxSpanRun], a[shading::kMaxSpanRun];
+        for (int32_t wide = 0; wide < 2; ++wide) {
+          std::fill(r, r + shading::kMaxSpanRun, 1.0f);
+          std::fill(g, g + shading::kMaxSpanRun, 1.0f);
+          std::fill(b, b + shading::kMaxSpanRun, 1.0f);
+          std::fill(a, a + shading::kMaxSpanRun, 1.0f);
+          const int32_t bad = wide ? shading::bilinearSetupWide(st, m, b0, b1, b2, i00, i10, i01, i11, fa, fb)
+                                   : shading::bilinearSetup(st, m, b0, b1, b2, i00, i10, i01, i11, fa, fb);
+          REQUIRE(bad == 0);  // reduced coordinates always fall in the closed forms' range
+          if (wide) shading::bilinearBlendWide(tx.data(), lutv.data(), m, i00, i10, i01, i11, fa, fb, r, g, b, a);
+          else shading::bilinearBlend(tx.data(), lutv.data(), m, i00, i10, i01, i11, fa, fb, r, g, b, a);
+          for (int32_t j = 0; j < m; ++j) {
+            const float u = st.u0 * b0[j] + st.u1 * b1[j] + st.u2 * b2[j], v = st.v0 * b0[j] + st.v1 * b1[j] + st.v2 * b2[j];
+            const float4 want = float4{1.0f, 1.0f, 1.0f, 1.0f} * sampleBilinear(t, T, L, u, v);
+            INFO("wrap " << ms << "/" << mt << ", u = " << u << ", v = " << v << ", wide " << wide);
+            REQUIRE(floatBits(r[j]) == floatBits(want.x));
+            REQUIRE(floatBits(g[j]) == floatBits(want.y));
+            REQUIRE(floatBits(b[j]) == floatBits(want.z));
+            REQUIRE(floatBits(a[j]) == floatBits(want.w));
+            ++checked;
+          }
+        }
+      }
+    }
+  CHECK(checked > 10000);
+}
+
+TEST_CASE("textured frames with texture coordinates outside 0..1 shade the same colours in spans", "[cpu-paths]") {
+  // A floor whose texture coordinates run from -2.3 to 3.6, seen in
+  // perspective, with every pair of wrap modes: the span kernel (fused binned
+  // raster and the visibility-buffer spans) against one pixel per work item,
+  // colour for colour to the bit. The floor is a grid of small triangles at
+  // the back and large ones at the front, so that a tile's short runs are
+  // shaded in batches across rows and long ones as row spans.
+  std::vector<float3> p;
+  std::vector<float2> uv;
+  std::vector<uint32_t> idx;
+  const int N = 24;
+  for (int j = 0; j <= N; ++j)
+    for (int i = 0; i <= N; ++i) {
+      const float fx = float(i) / N, fz = float(j) / N;
+      p.push_back({-1.0f + 2.0f * fx, 0.0f, -1.0f - 5.0f * fz * fz});  // rows bunch up towards the front
+      uv.push_back({-2.3f + 5.9f * fx, -1.7f + 4.6f * fz});
+    }
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i < N; ++i) {
+      const uint32_t a = uint32_t(j * (N + 1) + i), b = a + 1, c = a + N + 1, d = c + 1;
+      idx.insert(idx.end(), {a, b, d, a, d, c});
+    }
+  Scene s = trianglesScene(p, idx, &uv);
+  Texture tex;
+  tex.width = 7;
+  tex.height = 5;
+  for (int i = 0; i < tex.width * tex.height; ++i)
+    tex.rgba.push_back(uint32_t(29 * i + 11) % 256 | (uint32_t(97 * i + 5) % 256) << 8 | (uint32_t(53 * i) % 256) << 16 | 0xff000000u);
+  s.textures.push_back(tex);
+  s.materials[0].texture = 0;
+  Camera cam;
+  cam.eye = {0.2, 0.9, 0.3};
+  cam.target = {0, 0, -3};
+  cam.znear = 0.1;
+  cam.zfar = 50;
+  const int32_t modes[3] = {int32_t(WrapRepeat), int32_t(WrapClamp), int32_t(WrapMirror)};
+  for (int32_t ms : modes)
+    for (int32_t mt : modes) {
+      s.textures[0].wrapS = ms;
+      s.textures[0].wrapT = mt;
+      RenderSettings rs;
+      rs.width = 203;
+      rs.height = 97;
+      rs.shadeRun = 1;
+      const Frame ref = renderFrame(s, cam, rs);
+      size_t covered = 0;
+      for (uint32_t id : ref.ids) covered += id != 0;
+      REQUIRE(covered > size_t(rs.width) * rs.height / 4);
+      for (RasterMethod method : {RasterMethod::Binned, RasterMethod::VisBuffer}) {
+        rs.shadeRun = 0;
+        rs.raster = method;
+        const Frame f = renderFrame(s, cam, rs);
+        INFO("wrap " << ms << "/" << mt << ", " << toString(method));
+        REQUIRE(f.ids == ref.ids);
+        REQUIRE(f.depth == ref.depth);
+        CHECK(f.color == ref.color);
+      }
+    }
+}
+

@@ -180,6 +180,42 @@ TEST_CASE("the renderer's coverage and ids equal the rule-level coverage", "[ras
   }
 }
 
+TEST_CASE("narrow triangles with edges through pixel centres: every method's ids follow the fill rule", "[raster][fillrule]") {
+  // Cells of 3 to 5 pixels with vertices on pixel centres, so that many pixel
+  // centres lie exactly on edges (the top-left rule decides them), on
+  // triangles narrow enough for the host binned raster's coverage masks
+  // (depthBox) as well as wider ones.
+  const int W = 96, H = 80;
+  for (const double cell : {3.0, 4.0, 5.0}) {
+    std::vector<double> wx, wy;
+    std::vector<uint32_t> idx;
+    const int n = int(88.0 / cell);
+    grid(n, 2.5, 1.5, 2.5 + cell * n, 1.5 + cell * n * 0.85, 0.0, 7, wx, wy, idx);
+    const auto count = coverageCounts(wx, wy, idx, W, H);
+    const Scene s = windowScene(wx, wy, idx, W, H);
+    RenderSettings rs;
+    rs.width = W;
+    rs.height = H;
+    for (RasterMethod m : allRasterMethods()) {
+      rs.raster = m;
+      const Frame f = renderFrame(s, identityCamera(), rs);
+      INFO("cell " << cell << ", " << toString(m));
+      int covered = 0;
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          const uint32_t id = f.id(x, y);
+          REQUIRE((id != 0) == (count[size_t(y) * W + x] == 1));
+          covered += id != 0;
+          if (id) {
+            const auto one = coverageCounts(wx, wy, {idx[3 * (id - 1)], idx[3 * (id - 1) + 1], idx[3 * (id - 1) + 2]}, W, H);
+            REQUIRE(one[size_t(y) * W + x] == 1);
+          }
+        }
+      CHECK(covered > W * H / 2);
+    }
+  }
+}
+
 namespace {
 
 // Host ray cast: does the ray through pixel centre (x, y) hit triangle abc
