@@ -245,7 +245,7 @@ TEST_CASE("the span kernel's bilinear texturing gives sampleBilinear's bits", "[
           else shading::bilinearBlend(tx.data(), lutv.data(), m, i00, i10, i01, i11, fa, fb, r, g, b, a);
           for (int32_t j = 0; j < m; ++j) {
             const float u = st.u0 * b0[j] + st.u1 * b1[j] + st.u2 * b2[j], v = st.v0 * b0[j] + st.v1 * b1[j] + st.v2 * b2[j];
-            const float4 want = float4{1.0f, 1.0f, 1.0f, 1.0f} * sampleBilinear(t, T, L, u, v);
+            const rast::float4 want = rast::float4{1.0f, 1.0f, 1.0f, 1.0f} * sampleBilinear(t, T, L, u, v);
             INFO("wrap " << ms << "/" << mt << ", u = " << u << ", v = " << v << ", wide " << wide);
             REQUIRE(floatBits(r[j]) == floatBits(want.x));
             REQUIRE(floatBits(g[j]) == floatBits(want.y));
@@ -266,8 +266,8 @@ TEST_CASE("textured frames with texture coordinates outside 0..1 shade the same 
   // colour for colour to the bit. The floor is a grid of small triangles at
   // the back and large ones at the front, so that a tile's short runs are
   // shaded in batches across rows and long ones as row spans.
-  std::vector<float3> p;
-  std::vector<float2> uv;
+  std::vector<rast::float3> p;
+  std::vector<rast::float2> uv;
   std::vector<uint32_t> idx;
   const int N = 24;
   for (int j = 0; j <= N; ++j)
