@@ -166,6 +166,20 @@ struct Edges {
   }
 };
 
+// Whether no pixel centre of [x0, x1] x [y0, y1] is inside: some edge is not
+// positive (with its bias) at all four corner centres. Edge functions are
+// linear, so it is then not positive at any centre between: exact, no
+// pixel is lost. Large triangles' bounding boxes are half outside them.
+KOKKOS_INLINE_FUNCTION bool rectOutside(const Edges& e, int32_t x0, int32_t x1, int32_t y0, int32_t y1) {
+  for (int i = 0; i < 3; ++i) {
+    const int64_t b = e.bias[i];
+    if (e.eval(i, x0, y0) + b <= 0 && e.eval(i, x1, y0) + b <= 0 && e.eval(i, x0, y1) + b <= 0 &&
+        e.eval(i, x1, y1) + b <= 0)
+      return true;
+  }
+  return false;
+}
+
 // Window depth at a covered pixel, from the exact (unbiased) edge values.
 // Written as z0 + l1 (z1 - z0) + l2 (z2 - z0): exact on flat triangles and
 // closer to how hardware interpolates depth than the three-term sum.

@@ -80,10 +80,12 @@ struct RasterBlocks {
         rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
         continue;
       }
+      const Edges e(t);
+      if (rectOutside(e, x0, x1, y0, y1)) continue;  // the block is in the box, not in the triangle
       const uint32_t b = uint32_t(by) * uint32_t(blocksPerRow) + uint32_t(bx);
       const DepthBounds z = depthBounds(t);
       if (floatBits(z.lo) > blockDepth(b)) continue;  // behind every pixel of the block
-      const RectResult r = rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
+      const RectResult r = rasterRect(t, e, i, x0, x1, y0, y1, vis.data(), width, samples);
       // Whole blocks only: the bound must hold for all 64 pixels.
       const bool whole = x1 - x0 == (1 << kBlockShift) - 1 && y1 - y0 == (1 << kBlockShift) - 1;
       if (whole && r.maxDepthBits < blockDepth(b)) Kokkos::atomic_fetch_min(&blockDepth(b), r.maxDepthBits);

@@ -97,7 +97,11 @@ RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const {
   if (rs.raster != RasterMethod::Auto) return rs.raster;
   // Thresholds per kind of machine: backends/tuning.h.
   // Without statistics yet (first frame): a method with bounded work per item.
-  if (!autoStats_.valid || autoStats_.tris == 0) return kPreferVisBuffer ? RasterMethod::VisBuffer : RasterMethod::Binned;
+  if (!autoStats_.valid) return kPreferVisBuffer ? RasterMethod::VisBuffer : RasterMethod::Binned;
+  // Nothing to draw: on a GPU naive has the fewest launches (0.043 against
+  // visbuffer's 0.053 ms for an empty 1080p frame on the H100); a CPU's
+  // binned shades its tiles directly.
+  if (autoStats_.tris == 0) return kPreferVisBuffer ? RasterMethod::Naive : RasterMethod::Binned;
   // Only small triangles: one work item per triangle walking its box is the
   // cheapest (no expansion into blocks or bins).
   if (autoStats_.maxArea <= kNaiveMaxBoxArea) return RasterMethod::Naive;
