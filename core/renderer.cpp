@@ -242,10 +242,12 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
       rasterVisBuffer(frame_);
       break;
   }
-  // Points and lines after the triangles: binned writes every pixel.
-  if (!fused) rasterLinesAndPoints(scene_, frame_, linePass);
-  // Keys were written (the fused path writes none); shading may clear them.
-  if (!fused) frame_.visClear = false;
+  // Points and lines after the triangles: binned writes every pixel. Keys
+  // were written (the fused path writes none); shading may clear them.
+  if (!fused) {
+    rasterLinesAndPoints(scene_, frame_, linePass);
+    frame_.visClear = false;
+  }
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("raster");
 

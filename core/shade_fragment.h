@@ -270,9 +270,12 @@ struct Shade {
   // shading any: the kernel is bound by those loads, and its register cap
   // (kShadeLaunchBounds) leaves too few warps to hide one at a time.
   static constexpr uint32_t kLanes = 32;
-  KOKKOS_INLINE_FUNCTION static uint32_t interleavedItems(uint32_t pixels) {
-    const uint32_t per = kLanes * uint32_t(kShadeInterleave);
-    return (pixels + per - 1) / per * kLanes;
+
+  // Work items of a launch, for either layout.
+  int64_t workItems() const {
+    if (!interleaved) return int64_t(runsPerRow) * height;
+    const uint32_t per = kLanes * uint32_t(kShadeInterleave), pixels = uint32_t(width) * uint32_t(height);
+    return int64_t((pixels + per - 1) / per * kLanes);
   }
   KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
     const uint32_t first = w / kLanes * kLanes * uint32_t(kShadeInterleave) + w % kLanes;

@@ -139,9 +139,7 @@ Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
   const Shade k = makeShade(s, f, p, lights);
-  const int64_t items = k.interleaved ? int64_t(Shade::interleavedItems(uint32_t(f.vp.width) * uint32_t(f.vp.height)))
-                                      : int64_t(k.runsPerRow) * f.vp.height;
-  f.visClear = launchShade<!kOnDevice>(k, f.vp.samples.count, Range(0, items));
+  f.visClear = launchShade<!kOnDevice>(k, f.vp.samples.count, Range(0, k.workItems()));
 }
 
 }  // namespace rast
