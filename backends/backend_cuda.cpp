@@ -1,11 +1,17 @@
-// CUDA backend: stage timing with cudaEvents on Kokkos' CUDA stream, and the
-// device's name and size for `rast info`.
+// CUDA backend: stage timing with cudaEvents on Kokkos' CUDA stream, frames
+// recorded as CUDA graphs by stream capture, and the device's name and size
+// for `rast info`.
 #include "event_stage_timer.h"
 #include "exec_space.h"
+#include "frame_graphs.h"
+#include "recorded_frames.h"
 #include "stage_timer.h"
 
 #include <cuda_runtime.h>
 
+#include <cstdlib>
+#include <stdexcept>
+#include <cstring>
 #include <sstream>
 
 namespace rast {
@@ -19,7 +25,17 @@ struct CudaEvents {
     return e;
   }
   static void destroy(Event e) { cudaEventDestroy(e); }
-  static void record(Event e) { cudaEventRecord(e, Exec().cuda_stream()); }
+  static void record(Event e) {
+    // Recorded into a graph as an external event: the replay records it, and
+    // the host can wait on it and time it (a plain record would only order
+    // the graph's nodes).
+    const cudaStream_t s = Exec().cuda_stream();
+    cudaStreamCaptureStatus st = cudaStreamCaptureStatusNone;
+    if (cudaStreamIsCapturing(s, &st) == cudaSuccess && st == cudaStreamCaptureStatusActive)
+      cudaEventRecordWithFlags(e, s, cudaEventRecordExternal);
+    else
+      cudaEventRecord(e, s);
+  }
   static void wait(Event e) { cudaEventSynchronize(e); }
   static float elapsedMs(Event from, Event to) {
     float ms = 0.0f;
@@ -31,11 +47,106 @@ struct CudaEvents {
 
 struct StageTimer::Impl : EventStageTimer<CudaEvents> {};
 
-StageTimer::StageTimer() : impl_(new Impl) {}
+StageTimer::StageTimer() : impl_(new Impl), id_(nextStageTimerId()) {}
 StageTimer::~StageTimer() = default;
 void StageTimer::start() { impl_->start(); }
 void StageTimer::mark(const char* stage) { impl_->mark(stage); }
 std::vector<std::pair<std::string, double>> StageTimer::finish() { return impl_->finish(); }
+void StageTimer::replayMark(const char* stage) { impl_->replayMark(stage); }
+size_t StageTimer::marks() const { return impl_->marks(); }
+std::string StageTimer::markName(size_t i) const { return impl_->markName(i); }
+void StageTimer::rewind(size_t marks) { impl_->rewind(marks); }
+
+namespace {
+// Stream capture of Kokkos' launches. Relaxed mode: Kokkos' team launches
+// call cudaMalloc for zero bytes of level-1 scratch, which the global mode
+// forbids while capturing; nothing in a frame waits on the device.
+// The upload's staging buffer is pinned host memory, so that the copy is an
+// asynchronous DMA that a graph can replay (from pageable memory the driver
+// may stage it and wait). An event after each copy says when the buffer may
+// be refilled; a frame normally finds it long done.
+class CudaGraphs {
+ public:
+  using Exec = cudaGraphExec_t;
+  CudaGraphs() { cudaEventCreateWithFlags(&copied_, cudaEventDisableTiming); }
+  ~CudaGraphs() {
+    cudaEventSynchronize(copied_);
+    cudaEventDestroy(copied_);
+    if (staging_) cudaFreeHost(staging_);
+  }
+  CudaGraphs(const CudaGraphs&) = delete;
+  CudaGraphs& operator=(const CudaGraphs&) = delete;
+
+  void stage(const FrameGraphs::Upload& u) {
+    cudaEventSynchronize(copied_);
+    if (u.bytes > capacity_) {
+      if (staging_) cudaFreeHost(staging_);
+      staging_ = nullptr;
+      capacity_ = 0;
+      if (cudaHostAlloc(&staging_, u.bytes, cudaHostAllocDefault) != cudaSuccess)
+        throw std::runtime_error("cudaHostAlloc of " + std::to_string(u.bytes) + " bytes failed");
+      capacity_ = u.bytes;
+      noteAllocation();  // recordings copy from the old buffer
+    }
+    std::memcpy(staging_, u.src, u.bytes);
+  }
+  void copy(const FrameGraphs::Upload& u) {
+    const cudaStream_t s = rast::Exec().cuda_stream();
+    cudaMemcpyAsync(u.dst, staging_, u.bytes, cudaMemcpyHostToDevice, s);
+    cudaStreamCaptureStatus st = cudaStreamCaptureStatusNone;
+    if (cudaStreamIsCapturing(s, &st) == cudaSuccess && st == cudaStreamCaptureStatusActive)
+      cudaEventRecordWithFlags(copied_, s, cudaEventRecordExternal);
+    else
+      cudaEventRecord(copied_, s);
+  }
+
+  void begin() { cudaStreamBeginCapture(rast::Exec().cuda_stream(), cudaStreamCaptureModeRelaxed); }
+  bool end(Exec& out) {
+    cudaGraph_t g = nullptr;
+    const cudaError_t err = cudaStreamEndCapture(rast::Exec().cuda_stream(), &g);
+    bool ok = err == cudaSuccess && g != nullptr && cudaGraphInstantiateWithFlags(&out, g, 0) == cudaSuccess;
+    if (g) cudaGraphDestroy(g);
+    if (!ok) cudaGetLastError();  // clear the (non-sticky) capture error
+    return ok;
+  }
+  bool launch(Exec e) { return cudaGraphLaunch(e, rast::Exec().cuda_stream()) == cudaSuccess; }
+  void destroy(Exec e) { cudaGraphExecDestroy(e); }
+
+ private:
+  void* staging_ = nullptr;
+  size_t capacity_ = 0;
+  cudaEvent_t copied_ = nullptr;
+};
+
+bool graphsEnabled() {
+  static const bool on = [] {
+    const char* v = std::getenv("RAST_FRAME_GRAPHS");
+    return !(v && std::strcmp(v, "0") == 0);
+  }();
+  return on;
+}
+}  // namespace
+
+struct FrameGraphs::Impl : RecordedFrames<CudaGraphs> {
+  CudaGraphs plain;  // RAST_FRAME_GRAPHS=0: the same upload, then launches
+  void direct(const Upload& u, const std::function<void()>& launch) {
+    plain.stage(u);
+    plain.copy(u);
+    launch();
+  }
+};
+
+FrameGraphs::FrameGraphs() : impl_(new Impl) {}
+FrameGraphs::~FrameGraphs() = default;
+bool FrameGraphs::records() { return graphsEnabled(); }
+bool FrameGraphs::run(const std::string& key, StageTimer* timer, uint64_t& hostState, const Upload& upload,
+                      const std::function<void()>& launch) {
+  if (!graphsEnabled()) {
+    impl_->direct(upload, launch);
+    return false;
+  }
+  return impl_->run(key, timer, hostState, upload, launch);
+}
 
 std::string deviceDescription() {
   std::ostringstream os;

@@ -1,10 +1,12 @@
 // Host backends (Serial, OpenMP, and any other space whose kernels run on the
 // host's cores): stage timing by fence and host clock, which costs nothing
 // extra because these backends run kernels synchronously anyway.
+#include "frame_graphs.h"
 #include "stage_timer.h"
 
 #include "exec_space.h"
 
+#include <cstring>
 #include <sstream>
 
 namespace rast {
@@ -17,7 +19,7 @@ struct StageTimer::Impl {
   std::vector<std::pair<std::string, double>> stages;
 };
 
-StageTimer::StageTimer() : impl_(new Impl) {}
+StageTimer::StageTimer() : impl_(new Impl), id_(nextStageTimerId()) {}
 StageTimer::~StageTimer() = default;
 
 void StageTimer::start() {
@@ -35,9 +37,27 @@ void StageTimer::mark(const char* stage) {
 }
 
 std::vector<std::pair<std::string, double>> StageTimer::finish() { return impl_->stages; }
+// Host backends record no frames (frame_graphs.h): a replayed mark is a mark.
+void StageTimer::replayMark(const char* stage) { mark(stage); }
+size_t StageTimer::marks() const { return impl_->stages.size(); }
+std::string StageTimer::markName(size_t i) const { return impl_->stages.at(i).first; }
+void StageTimer::rewind(size_t marks) { impl_->stages.resize(marks); }
 
 std::string deviceDescription() { return describeExecSpace(); }
 
 DeviceMemory deviceMemory() { return {}; }
+
+// Host backends record no frames: kernels run as they are launched, and a
+// launch costs the host little.
+struct FrameGraphs::Impl {};
+FrameGraphs::FrameGraphs() = default;
+FrameGraphs::~FrameGraphs() = default;
+bool FrameGraphs::records() { return false; }
+bool FrameGraphs::run(const std::string&, StageTimer*, uint64_t&, const Upload& upload,
+                      const std::function<void()>& launch) {
+  std::memcpy(upload.dst, upload.src, upload.bytes);  // kernels before it have finished: host kernels are synchronous
+  launch();
+  return false;
+}
 
 }  // namespace rast

@@ -33,6 +33,17 @@ class EventStageTimer {
     Api::record(next());
   }
 
+  void replayMark(const char* stage) {
+    names_.emplace_back(stage);
+    next();  // the replayed recording records this event
+  }
+  size_t marks() const { return names_.size(); }
+  std::string markName(size_t i) const { return names_.at(i); }
+  void rewind(size_t marks) {
+    names_.resize(marks);
+    used_ = marks + 1;  // the start event and one per mark
+  }
+
   std::vector<std::pair<std::string, double>> finish() {
     std::vector<std::pair<std::string, double>> out;
     if (used_ == 0) return out;

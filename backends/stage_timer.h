@@ -5,6 +5,8 @@
 // event_stage_timer.h); backend_host.cpp fences and reads a host clock.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -24,10 +26,29 @@ class StageTimer {
   // Waits for the frame and returns the milliseconds of each marked stage.
   std::vector<std::pair<std::string, double>> finish();
 
+  // For recorded frames (frame_graphs.h). A mark made while a frame is being
+  // recorded records its event in the recording; when the recording is
+  // replayed, replayMark() takes that mark's place without recording anything
+  // (the replay records the same event). marks() counts this frame's marks and
+  // markName() names one; rewind() drops marks back to a count (a recording
+  // that failed). id() tells timers apart: a recording uses one timer's events.
+  void replayMark(const char* stage);
+  size_t marks() const;
+  std::string markName(size_t i) const;
+  void rewind(size_t marks);
+  uint64_t id() const { return id_; }
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  uint64_t id_;
 };
+
+// A process-wide serial number for StageTimer::id().
+inline uint64_t nextStageTimerId() {
+  static std::atomic<uint64_t> next{1};
+  return next.fetch_add(1);
+}
 
 // Backend, Kokkos version and parallelism, one "key: value" per line.
 std::string deviceDescription();

@@ -7,6 +7,7 @@
 // in backends/exec_space.h and backends/tuning.h; this header only forwards.
 #pragma once
 
+#include "../backends/allocation_epoch.h"
 #include "../backends/exec_space.h"
 #include "../backends/tuning.h"
 
@@ -35,12 +36,29 @@ auto lightweight(const Policy& p) {
   return Kokkos::Experimental::require(p, Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
 
+// Every pipeline buffer is allocated through these helpers, which count the
+// allocations (allocation_epoch.h): a recorded frame whose buffers moved must
+// not be replayed.
+//
 // Allocate a device buffer without initialising it: every kernel that reads a
 // buffer first has it written by an earlier stage, so zero-filling would be
 // wasted bandwidth.
 template <class T>
 DView<T> allocUninit(const char* label, size_t n) {
+  noteAllocation();
   return DView<T>(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
+}
+
+// A zero-filled buffer (counters), or with n == 0 a zero-filled scalar view.
+template <class T>
+DView<T> allocZeroed(const char* label, size_t n) {
+  noteAllocation();
+  return DView<T>(std::string(label), n);
+}
+template <class T>
+Kokkos::View<T, Mem> allocScalar(const char* label) {
+  noteAllocation();
+  return Kokkos::View<T, Mem>(std::string(label));
 }
 
 // Grow-only resize: keeps the allocation when it is already large enough so that
@@ -48,7 +66,7 @@ DView<T> allocUninit(const char* label, size_t n) {
 template <class T>
 bool ensureCapacity(DView<T>& v, const char* label, size_t n) {
   if (v.extent(0) >= n && v.data() != nullptr) return false;
-  v = allocUninit<T>(label, n);
+  v = allocUninit<T>(label, n > 0 ? n : 1);  // never empty: an empty view would be allocated every frame
   return true;
 }
 

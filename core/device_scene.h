@@ -15,7 +15,6 @@ struct DeviceScene {
   DView<float4> colors;   // empty when no primitive has COLOR_0
   DView<uint32_t> indices;  // 3 per source triangle, relative to the primitive's first vertex
   DView<DrawGPU> draws;
-  std::vector<mat4d> hostModels;  // draws' model matrices, kept on the host too (vertex_stage.cpp)
   DView<uint32_t> drawTriStart;   // dstTri of each draw, for triangle -> draw lookup
   DView<uint32_t> drawVertStart;  // dstVertex of each draw, for vertex -> draw lookup
   DView<MaterialGPU> materials;

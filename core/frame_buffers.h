@@ -15,17 +15,35 @@ namespace rast {
 enum Counter : int {
   kRasterTris = 0,  // raster triangles the setup produced (may exceed the capacity)
   kRasterWork = 1,  // work items of the raster method (chunks, bin entries, ...)
+  kSetupDone = 2,   // setup's count pass: teams finished (back to 0 by the last; primitive_setup.cpp)
   kNumCounters = 4
+};
+
+// The camera's values that the frame's kernels read, copied to device memory
+// at the start of each frame (FrameGraphs::run's upload) instead of travelling
+// as kernel arguments: every launch of the frame is then the same from one
+// frame to the next, and a GPU can replay them as one recorded unit
+// (backends/frame_graphs.h) while the camera moves.
+struct FrameCamera {
+  float3 eye;
+  float znear, zfar;  // for the depth visualisation
+  mat4f view;         // world -> view space (SSAO's geometry)
+};
+struct FrameUniforms {
+  mat4d viewProj;  // the draws' matrices are computed from it on the device (vertexStage)
+  FrameCamera camera;
 };
 
 struct FrameBuffers {
   Viewport vp{0, 0, SamplePattern{}};
-  DView<mat4f> mvp;          // per draw
+  DView<FrameUniforms> uniforms; // one: this frame's camera
+  DView<mat4f> mvp;          // per draw: model-view-projection
   DView<float4> clip;        // per drawn vertex
   DView<SnapVert> snap;      // per drawn vertex: window position, or why it needs clipping
   DView<float3> worldPos;    // per drawn vertex, only when shading needs it
   DView<float3> worldNormal; // per drawn vertex, only when shading needs it
   DView<uint32_t> chunkOffset; // per chunk of drawn triangles: raster triangles, then their exclusive prefix sum
+  DView<uint8_t> clipCount;    // per drawn triangle that needs clipping: its raster triangles (setup's count -> write)
   DView<RasterTri> tris;     // raster triangles
   DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work
   DView<uint32_t> blockDepth;  // visbuffer method: per 8x8 block, a bound on its pixels' depth

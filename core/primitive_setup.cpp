@@ -6,8 +6,11 @@
 //   count  one team per chunk: how many raster triangles the chunk yields (each
 //          drawn triangle gives 0 when culled, degenerate, non-finite or
 //          off-screen, 1 when it needs no clipping, up to kMaxClipVerts-2 when
-//          clipped);
-//   scan   exclusive scan over the chunk totals (a few thousand numbers);
+//          clipped; a clipped triangle's count is kept for the write pass, so
+//          that it is clipped twice rather than three times);
+//   scan   exclusive scan over the chunk totals (a few thousand numbers), by
+//          the count pass's last team to finish: one launch, not three (a
+//          count kernel and Kokkos' two-kernel scan);
 //   write  one team per chunk redoes the setup into team scratch, scans the
 //          per-triangle counts within the chunk, and copies the chunk's
 //          triangles out word by word, so that neighbouring threads write
@@ -98,9 +101,11 @@ constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces wr
 // setupTriangle would give it, so the result equals clipping every triangle.
 // `out` holds the raster triangle when the triangle is unclipped and yields one;
 // kDepth: with its corner depths on the unsnapped plane (depth_plane.h), which
-// only the write pass needs.
+// only the write pass needs. clipCounts: the count pass's counts of clipped
+// triangles, or null to clip and count here.
 template <bool kDepth>
-KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped) {
+KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped,
+                                         const uint8_t* clipCounts) {
   uint32_t vi[3];
   bool frontCCW;
   c.corners(t, vi, frontCCW);
@@ -127,6 +132,7 @@ KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, Raste
   if ((any & kCodeNonFinite) || (all & 0x3fu)) return 0;  // not drawable, or wholly outside one plane
   if (!(any & 0x3fu)) return 0;                           // inside every plane, but some w <= 0
   clipped = true;
+  if (clipCounts) return clipCounts[t];
   return c.clipAndSetUp<false>(t, vi, frontCCW, [](const RasterTri&) {});
 }
 
@@ -137,8 +143,9 @@ KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
 
 struct CountChunks {
   SetupCommon c;
-  DView<uint32_t> chunkCount;
-  uint32_t numTris;
+  DView<uint32_t> chunkCount, counters;
+  DView<uint8_t> clipCount;
+  uint32_t numTris, chunks;
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
     const uint32_t chunk = uint32_t(m.league_rank()), first = chunk * kSetupChunk;
     uint32_t sum = 0;
@@ -147,10 +154,42 @@ struct CountChunks {
         [&](const uint32_t i, uint32_t& acc) {
           RasterTri rt;
           bool clipped;
-          acc += setupOne<false>(c, first + i, rt, clipped);
+          const uint32_t k = setupOne<false>(c, first + i, rt, clipped, nullptr);
+          if (clipped) clipCount(first + i) = uint8_t(k);  // at most kMaxClipVerts - 2
+          acc += k;
         },
         sum);
-    Kokkos::single(Kokkos::PerTeam(m), [&]() { chunkCount(chunk) = sum; });
+    // Publish the count, then take a ticket: the team that draws the last one
+    // sees every count (the fences order each team's count before its ticket)
+    // and scans them in place into chunk offsets. Which team that is depends
+    // on scheduling; what it writes does not.
+    uint32_t last = 0;
+    Kokkos::single(
+        Kokkos::PerTeam(m),
+        [&](uint32_t& isLast) {
+          chunkCount(chunk) = sum;
+          Kokkos::memory_fence();
+          isLast = Kokkos::atomic_fetch_add(&counters(kSetupDone), 1u) == chunks - 1 ? 1u : 0u;
+        },
+        last);
+    if (!last) return;
+    Kokkos::memory_fence();
+    // Volatile reads: the counts were written by other teams, maybe on other
+    // multiprocessors, and must not come from a stale cache line (atomic
+    // reads did the same, 30 us slower for tiny's 3,900 chunks on the H100).
+    const volatile uint32_t* counts = chunkCount.data();
+    const uint32_t lastCount = counts[chunks - 1];
+    m.team_barrier();  // read before the scan overwrites it
+    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, chunks), [&](const uint32_t i, uint32_t& upd, const bool final) {
+      const uint32_t v = counts[i];
+      if (final) chunkCount(i) = upd;
+      upd += v;
+    });
+    m.team_barrier();
+    Kokkos::single(Kokkos::PerTeam(m), [&]() {
+      counters(kRasterTris) = chunkCount(chunks - 1) + lastCount;
+      counters(kSetupDone) = 0;  // for the next frame
+    });
   }
 };
 
@@ -168,6 +207,7 @@ constexpr uint32_t kStageStride = kTriQuads + 1;
 struct WriteChunks {
   SetupCommon c;
   DView<uint32_t> chunkOffset, counters;
+  DView<uint8_t> clipCount;  // the count pass's (unused with one chunk)
   DView<RasterTri> tris;
   uint32_t capacity, numTris;
   // One chunk only: its offset is 0 and its own count is the total, so the
@@ -189,7 +229,7 @@ struct WriteChunks {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
       bool clipped;
       RasterTri rt;
-      const uint32_t k = setupOne<true>(c, first + i, rt, clipped);
+      const uint32_t k = setupOne<true>(c, first + i, rt, clipped, single ? nullptr : clipCount.data());
       count[i] = clipped ? (k | kClippedFlag) : k;
       if (k == 1 && !clipped) {
         Quad q[kTriQuads];
@@ -242,6 +282,7 @@ struct WriteChunks {
 struct WriteChunksHost {
   SetupCommon c;
   DView<uint32_t> chunkOffset, counters;
+  DView<uint8_t> clipCount;  // the count pass's (unused with one chunk)
   DView<RasterTri> tris;
   uint32_t capacity, numTris;
   int32_t single;  // one chunk: offset 0, and its count is the total (as WriteChunks)
@@ -253,7 +294,7 @@ struct WriteChunksHost {
     for (uint32_t i = 0; i < len; ++i) {
       bool clipped;
       RasterTri rt;
-      const uint32_t k = setupOne<true>(c, first + i, rt, clipped);
+      const uint32_t k = setupOne<true>(c, first + i, rt, clipped, single ? nullptr : clipCount.data());
       if (!clipped) {
         if (k == 1 && o < capacity) tris(o) = rt;
         o += k;
@@ -278,12 +319,12 @@ void launchWrite(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
   if constexpr (kHost) {
     using Host = std::conditional_t<kHost, WriteChunksHost, void>;  // dependent: not built for GPUs
     Kokkos::parallel_for("rast::setup::write", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
-                         Host{c, f.chunkOffset, f.counters, f.tris, f.triCapacity, numTris, single ? 1 : 0});
+                         Host{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0});
   } else {
     Kokkos::parallel_for("rast::setup::write",
                          lightweight(TeamPolicy(int(chunks), kTeamSize))
                              .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
-                         WriteChunks{c, f.chunkOffset, f.counters, f.tris, f.triCapacity, numTris, single ? 1 : 0});
+                         WriteChunks{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0});
   }
 }
 
@@ -303,13 +344,18 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack) {
   ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
   SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
-  // Small scenes (one chunk) take one launch instead of four: launches, not
+  // Small scenes (one chunk) take one launch instead of two: launches, not
   // work, are most of their frame on a GPU.
   const bool single = chunks == 1;
-  if (chunks > 1)
-    Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)), CountChunks{c, f.chunkOffset, s.numTris});
-  if (!single) scanExclusive("rast::setup::scan", f.chunkOffset, chunks, f.counters, kRasterTris);
-  if (chunks > 0) launchWrite<!kOnDevice>(c, f, chunks, s.numTris, single);
+  if (chunks > 1) {
+    ensureCapacity(f.clipCount, "frame.setupClipCount", s.numTris);
+    Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)),
+                         CountChunks{c, f.chunkOffset, f.counters, f.clipCount, s.numTris, chunks});
+  }
+  if (chunks > 0)
+    launchWrite<!kOnDevice>(c, f, chunks, s.numTris, single);
+  else
+    scanExclusive("rast::setup::none", f.chunkOffset, 0, f.counters, kRasterTris);  // no triangles: the total is 0
 }
 
 }  // namespace rast

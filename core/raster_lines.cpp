@@ -94,7 +94,7 @@ void rasterLinesAndPoints(const DeviceScene& s, FrameBuffers& f, const LinePass&
   lf.pass = pass;
   const uint32_t nLines = pass.lineItems(), nPoints = pass.pointItems();
   if (nLines == 0 && nPoints == 0) return;
-  if (!lf.counters.data()) lf.counters = DView<uint32_t>("frame.lines.counters", 2);
+  if (!lf.counters.data()) lf.counters = allocZeroed<uint32_t>("frame.lines.counters", 2);
   const LineSource src{s.lines, s.points, s.draws, s.drawTriStart, s.indices, f.snap, s.numDraws, pass};
   const float gx = guardBand(f.vp.width), gy = guardBand(f.vp.height);
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;

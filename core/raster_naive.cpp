@@ -70,8 +70,8 @@ struct AreaMax {
 
 void rasterStatistics(FrameBuffers& f) {
   if (!f.sumArea.data()) {
-    f.sumArea = Kokkos::View<uint64_t, Mem>("frame.sumArea");
-    f.maxArea = Kokkos::View<uint64_t, Mem>("frame.maxArea");
+    f.sumArea = allocScalar<uint64_t>("frame.sumArea");
+    f.maxArea = allocScalar<uint64_t>("frame.maxArea");
   }
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
   Kokkos::parallel_reduce("rast::raster::stats::area_sum", Policy(0, f.triCapacity),

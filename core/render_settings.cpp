@@ -3,6 +3,7 @@
 #include "scene.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -96,6 +97,47 @@ bool parseFiniteList(const std::string& s, std::vector<double>& out) {
     out.push_back(d);
   }
   return true;
+}
+
+}  // namespace rast
+
+namespace rast {
+
+namespace {
+// The value's bytes: a key is built every frame, so no formatting.
+template <class T>
+void put(std::string& s, T v) {
+  s.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+}  // namespace
+
+// A field added to RenderSettings or PostSettings must be added here too, or
+// frames with different values of it would share a recording. The sizes below
+// (LP64) make the compiler point here when either struct changes.
+static_assert(sizeof(void*) != 8 || sizeof(PostSettings) == 40, "PostSettings changed: update settingsKey()");
+static_assert(sizeof(void*) != 8 || sizeof(RenderSettings) == 168, "RenderSettings changed: update settingsKey()");
+
+std::string settingsKey(const RenderSettings& rs) {
+  std::string s;
+  s.reserve(512);
+  for (long long v : {(long long)rs.width, (long long)rs.height, (long long)rs.cull, (long long)rs.shading,
+                      (long long)rs.filter, (long long)rs.raster, (long long)rs.wantDepth, (long long)rs.wantPrimId,
+                      (long long)rs.wantNormals, (long long)rs.msaa, (long long)rs.ssaa, (long long)rs.reference,
+                      (long long)rs.referenceGrid, (long long)rs.referenceSeed, (long long)rs.perspectiveCorrect,
+                      (long long)rs.polygon, (long long)rs.wireframe, (long long)rs.shadeRun})
+    put(s, v);
+  for (double v : {rs.ambient, rs.specular, rs.shininess, rs.background.x, rs.background.y, rs.background.z,
+                   rs.background.w, rs.lineWidth, rs.pointSize})
+    put(s, v);
+  put(s, (long long)rs.lights.size());
+  for (const DirectionalLight& l : rs.lights)
+    for (double v : {l.direction.x, l.direction.y, l.direction.z, l.intensity}) put(s, v);
+  const PostSettings& p = rs.post;
+  for (long long v : {(long long)p.tonemap, (long long)p.bloom, (long long)p.bloomRadius, (long long)p.ssao,
+                      (long long)p.ssaoSamples, (long long)p.floatOutput})
+    put(s, v);
+  for (double v : {p.exposure, p.bloomThreshold, p.bloomStrength, p.ssaoRadius}) put(s, v);
+  return s;
 }
 
 }  // namespace rast

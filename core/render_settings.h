@@ -70,6 +70,11 @@ struct RenderSettings {
   int shadeRun = 0;
 };
 
+// Every field's bytes, as one string: two settings give the same string
+// exactly when they are equal. Recorded frames are kept
+// per settings (backends/frame_graphs.h).
+std::string settingsKey(const RenderSettings& rs);
+
 PolygonMode parsePolygon(const std::string& s);
 Wireframe parseWireframe(const std::string& s);
 const char* toString(PolygonMode m);

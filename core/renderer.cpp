@@ -1,5 +1,6 @@
 #include "renderer.h"
 
+#include "../backends/frame_graphs.h"
 #include "../backends/stage_timer.h"
 #include "color.h"
 #include "post/chain.h"
@@ -16,7 +17,7 @@
 namespace rast {
 
 size_t FrameBuffers::bytes() const {
-  return viewBytes(mvp) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) +
+  return viewBytes(mvp) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(clipCount) +
          viewBytes(tris) + viewBytes(workOffset) + viewBytes(blockDepth) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
@@ -85,13 +86,16 @@ Renderer::Renderer(const Scene& scene, uint64_t memoryBudget)
     : budget_(memoryBudget ? memoryBudget : defaultMemoryBudget()),
       perVertexBytes_(sizeof(float4) + sizeof(SnapVert) + 2 * sizeof(float3)),
       scene_(DeviceScene::upload(admitScene(scene, budget_))),
-      hostTextures_(scene.textures) {
-  frame_.counters = DView<uint32_t>("frame.counters", kNumCounters);
+      hostTextures_(scene.textures),
+      graphs_(new FrameGraphs) {
+  frame_.counters = allocZeroed<uint32_t>("frame.counters", kNumCounters);
   // Most triangles yield at most one raster triangle; clipping can yield more,
   // and then the buffer grows after the first frame that needs it.
   frame_.triCapacity = scene_.numTris + 1024;
   frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
 }
+
+Renderer::~Renderer() = default;
 
 RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const {
   if (rs.raster != RasterMethod::Auto) return rs.raster;
@@ -163,13 +167,19 @@ void Renderer::prepare(const RenderSettings& rs) {
     }
     uploadedLights_ = rs.lights;
   }
+  ensureCapacity(frame_.uniforms, "frame.uniforms", 1);
 }
 
 void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
   prepare(rs);
-  const glm::dmat4 vpD = cam.viewProjection(rs.width, rs.height);
-  mat4d vp;
-  for (int k = 0; k < 16; ++k) vp.m[k] = glm::value_ptr(vpD)[k];
+  FrameUniforms u{};
+  const glm::dmat4 vp = cam.viewProjection(rs.width, rs.height);
+  for (int k = 0; k < 16; ++k) u.viewProj.m[k] = glm::value_ptr(vp)[k];
+  u.camera.eye = float3{float(cam.eye.x), float(cam.eye.y), float(cam.eye.z)};
+  u.camera.znear = float(cam.znear);
+  u.camera.zfar = float(cam.zfar);
+  const glm::dmat4 view = cam.view();
+  for (int k = 0; k < 16; ++k) u.camera.view.m[k] = float(glm::value_ptr(view)[k]);
   const bool needWorld =
       !(rs.shading == ShadingMode::Depth || rs.shading == ShadingMode::TexCoord) || rs.wantNormals || rs.post.ssao;
   // The float film: when a post pass or an HDR output needs it, and for every
@@ -179,10 +189,29 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   lastAuto_ = rs.raster == RasterMethod::Auto;
   statsThisFrame_ = lastAuto_ && (!autoStats_.valid || autoFrames_ % kAutoStatsEvery == 0);
   if (lastAuto_) ++autoFrames_;
+  // Everything the frame's launches depend on besides device memory: a
+  // recorded frame is replayed only under the same key (frame_graphs.h).
+  uint64_t visClear = frame_.visClear ? 1 : 0;
+  std::string key = settingsKey(rs);
+  for (uint64_t v : {uint64_t(lastMethod_), uint64_t(statsThisFrame_), visClear, uint64_t(supersampling_),
+                     uint64_t(frame_.triCapacity), uint64_t(frame_.workCapacity)})
+    key.append(reinterpret_cast<const char*>(&v), sizeof v);
 
   if (timer) timer->start();
+  // The camera reaches the kernels through device memory, copied first; the
+  // launches after it are the same from frame to frame for the same key.
+  graphs_->run(key, timer, visClear, {&u, frame_.uniforms.data(), sizeof u}, [&] {
+    frame_.visClear = visClear != 0;
+    launchFrame(rs, needWorld, film, timer);
+    visClear = frame_.visClear ? 1 : 0;
+  });
+  frame_.visClear = visClear != 0;
+  if (film && !supersampling_) runPost(cam, rs, timer);
+}
+
+void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, StageTimer* timer) {
   Kokkos::Profiling::pushRegion("rast::vertex");
-  vertexStage(scene_, frame_, vp, needWorld);
+  vertexStage(scene_, frame_, needWorld);
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("vertex");
 
@@ -195,15 +224,13 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   ShadeParams sp{};
   sp.mode = rs.shading;
   sp.filter = rs.filter;
-  sp.eye = float3{float(cam.eye.x), float(cam.eye.y), float(cam.eye.z)};
+  sp.frame = frame_.uniforms;
   sp.ambient = rs.ambient;
   sp.specular = rs.specular;
   sp.shininess = rs.shininess;
   sp.background = rs.background;
   sp.backgroundPacked = linearToSrgb8(rs.background.x) | linearToSrgb8(rs.background.y) << 8 |
                         linearToSrgb8(rs.background.z) << 16 | linearToSrgb8(1.0f) << 24;
-  sp.znear = float(cam.znear);
-  sp.zfar = float(cam.zfar);
   sp.headlight = rs.lights.empty() ? 1 : 0;
   sp.wantDepth = rs.wantDepth;
   sp.wantPrimId = rs.wantPrimId;
@@ -214,8 +241,6 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   sp.shadeRun = rs.shadeRun;
   // Raw modes keep the direct path's background bytes.
   sp.backgroundFilm = isRawShading(rs.shading) ? unpackRaw8(sp.backgroundPacked) : rs.background;
-  const glm::dmat4 view = cam.view();
-  for (int k = 0; k < 16; ++k) sp.view.m[k] = float(glm::value_ptr(view)[k]);
   Kokkos::Profiling::pushRegion("rast::raster");
   const LinePass linePass = makeLinePass(scene_, rs);
   // On the CPU the binned raster can shade each tile as it finishes (stages.h):
@@ -255,7 +280,6 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   if (!fused) shadeStage(scene_, frame_, sp, lights_);
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("shade");
-  if (film && !supersampling_) runPost(cam, rs, timer);
 }
 
 void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {

@@ -9,6 +9,7 @@
 #include "stages.h"
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +17,7 @@
 namespace rast {
 
 class StageTimer;
+class FrameGraphs;
 
 struct FrameStats {
   uint32_t trianglesIn = 0;   // drawn triangles submitted
@@ -33,6 +35,7 @@ class Renderer {
   // memoryBudget: bytes the renderer may hold (scene on the device and frame
   // buffers), checked before each allocation; 0: defaultMemoryBudget().
   explicit Renderer(const Scene& scene, uint64_t memoryBudget = 0);
+  ~Renderer();
 
   // Renders one frame and waits for it. If the frame needed larger buffers
   // than it had, they grow and the frame is rendered again (never capped).
@@ -82,6 +85,8 @@ class Renderer {
   void prepare(const RenderSettings& rs);
   FrameStats renderSupersampled(const Camera& cam, const RenderSettings& rs);
   void runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer);
+  // The frame's kernels after the camera's upload: all that a recorded frame replays.
+  void launchFrame(const RenderSettings& rs, bool needWorld, bool film, StageTimer* timer);
   // Throws a one-line Error when the frame buffers for rs would not fit the budget.
   void checkFrameBudget(const RenderSettings& rs) const;
 
@@ -97,6 +102,7 @@ class Renderer {
   bool statsThisFrame_ = false;  // auto: this frame runs the statistics pass (kAutoStatsEvery)
   uint32_t autoFrames_ = 0;
   bool supersampling_ = false;  // inside renderSupersampled: passes shade to the film, no post chain
+  std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
 
   // What `auto` decides from: statistics of the previous frame's raster
   // triangles (read with the counters after a frame, so no extra round trip).

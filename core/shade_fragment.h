@@ -73,7 +73,8 @@ struct Shade {
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
     const float zn = 2.0f * d - 1.0f;
-    return 2.0f * p.znear * p.zfar / ((p.zfar + p.znear) - zn * (p.zfar - p.znear));
+    const float n = p.frame(0).camera.znear, f = p.frame(0).camera.zfar;
+    return 2.0f * n * f / ((f + n) - zn * (f - n));
   }
 
   // Barycentrics in the drawn triangle at a point (ox, oy) (1/256 pixel) from
@@ -212,7 +213,7 @@ struct Shade {
     }
     if (hasColor) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
 
-    const float3 V = normalize(p.eye - P);
+    const float3 V = normalize(p.frame(0).camera.eye - P);
     float diffuse = p.ambient, spec = 0.0f;
     const int nl = p.headlight ? 1 : int(lights.extent(0));
     for (int k = 0; k < nl; ++k) {
@@ -237,7 +238,7 @@ struct Shade {
   // first sample's); zero where nothing was shaded with a normal.
   KOKKOS_INLINE_FUNCTION float4 viewGeometry(float3 N, float3 P) const {
     if (!(dot(N, N) > 0.0f)) return float4{0.0f, 0.0f, 0.0f, 0.0f};
-    const float* m = p.view.m;
+    const float* m = p.frame(0).camera.view.m;
     const float3 n = normalize(float3{m[0] * N.x + m[4] * N.y + m[8] * N.z, m[1] * N.x + m[5] * N.y + m[9] * N.z,
                                       m[2] * N.x + m[6] * N.y + m[10] * N.z});
     const float d = -(m[2] * P.x + m[6] * P.y + m[10] * P.z + m[14]);

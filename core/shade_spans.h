@@ -495,7 +495,7 @@ struct ShadeSpans : Shade {
     k.t01 = t.bary[0][1]; k.t11 = t.bary[1][1]; k.t21 = t.bary[2][1];
     k.n0 = f.n[0]; k.n1 = f.n[1]; k.n2 = f.n[2];
     k.q0 = f.pos[0]; k.q1 = f.pos[1]; k.q2 = f.pos[2];
-    k.eye = p.eye;
+    k.eye = p.frame(0).camera.eye;
     k.ambient = p.ambient;
     k.headI = p.headlight ? 1.0f - p.ambient : 0.0f;
     if (f.textured) {

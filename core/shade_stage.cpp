@@ -16,11 +16,12 @@ using shading::Shade;
 // Eye-space depth range of the covered pixels, reduced on the device (depth mode).
 struct DepthRange {
   DView<uint64_t> vis;
-  float znear, zfar;
+  DView<FrameUniforms> frame;
   int samples;
   KOKKOS_INLINE_FUNCTION void operator()(const int64_t i, Kokkos::MinMaxScalar<float>& v) const {
     const uint64_t key = vis(i * samples);
     if ((key & 0xffffffffu) == 0) return;
+    const float znear = frame(0).camera.znear, zfar = frame(0).camera.zfar;
     const float zn = 2.0f * bitsFloat(uint32_t(key >> 32)) - 1.0f;
     const float ze = 2.0f * znear * zfar / ((zfar + znear) - zn * (zfar - znear));
     v.min_val = ze < v.min_val ? ze : v.min_val;
@@ -119,8 +120,8 @@ Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
     ensureCapacity(f.post.depth, "post.depth", size_t(n));
   }
   if (p.mode == ShadingMode::Depth) {
-    if (!f.depthRange.data()) f.depthRange = decltype(f.depthRange)("frame.depthRange");
-    Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.znear, p.zfar, f.vp.samples.count},
+    if (!f.depthRange.data()) f.depthRange = allocScalar<Kokkos::MinMaxScalar<float>>("frame.depthRange");
+    Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.frame, f.vp.samples.count},
                             Kokkos::MinMax<float, Mem>(f.depthRange));
   }
   Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,

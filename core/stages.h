@@ -17,7 +17,9 @@ namespace rast {
 void scanExclusive(const char* label, const DView<uint32_t>& data, uint32_t n, const DView<uint32_t>& counters,
                    int slot);
 
-void vertexStage(const DeviceScene& s, FrameBuffers& f, const mat4d& viewProj, bool needWorld);
+// Every draw's model-view-projection matrix from f.uniforms into f.mvp, then
+// every drawn vertex through it.
+void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld);
 
 // Writes f.tris (up to f.triCapacity) and f.counters(kRasterTris).
 void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack);
@@ -42,11 +44,10 @@ struct LightGPU {
 struct ShadeParams {
   ShadingMode mode;
   TexFilter filter;
-  float3 eye;
+  DView<FrameUniforms> frame;  // the camera's eye, view, near and far: FrameBuffers::uniforms
   float ambient, specular, shininess;
   float4 background;
   uint32_t backgroundPacked;  // sRGB RGBA8, encoded once on the host
-  float znear, zfar;  // for the depth visualisation
   int32_t headlight;  // 1: one light at the eye, per fragment
   int32_t wantDepth, wantPrimId, wantNormals;
   int32_t perspective;  // 0: affine interpolation (for comparison only)
@@ -55,7 +56,6 @@ struct ShadeParams {
   // to f.post.geom for every pixel.
   int32_t floatOut, wantGeom;
   float4 backgroundFilm;  // the background as the film holds it
-  mat4f view;             // world -> view space (wantGeom)
   int32_t shadeRun;       // pixels per shading work item along a row; 0: the backend's kShadeRun
 };
 

@@ -24,19 +24,15 @@ KOKKOS_INLINE_FUNCTION mat4f drawMvp(const mat4d& vp, const mat4d& m) {
   return out;
 }
 
+// The view-projection comes from device memory (the frame's uploaded
+// uniforms), so that this launch is the same whatever the camera.
 struct DrawMatrices {
   DView<DrawGPU> draws;
   DView<mat4f> mvp;
-  mat4d vp;
+  DView<FrameUniforms> frame;
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int d) const { mvp(d) = drawMvp(vp, draws(d).model); }
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t d) const { mvp(d) = drawMvp(frame(0).viewProj, draws(d).model); }
 };
-
-// A scene of one draw gets its matrix computed on the host and passed in the
-// vertex kernel's arguments: one launch fewer, which on a GPU is worth more
-// than 16 products. (Not an array of a few: indexed by the draw, a kernel
-// argument is copied to each thread's local memory, which on the H100 tripled
-// the vertex stage of every scene.)
 
 template <bool kWorld>
 struct TransformVertices {
@@ -44,7 +40,6 @@ struct TransformVertices {
   DView<uint32_t> drawVertStart;
   uint32_t numDraws;
   DView<mat4f> mvp;
-  mat4f argMvp;  // used instead of mvp when numDraws == 1
   DView<float3> positions, normals;
   DView<float4> clip;
   DView<SnapVert> snap;
@@ -57,7 +52,7 @@ struct TransformVertices {
     const DrawGPU& dr = draws(d);
     const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
     const float3 p = positions(src);
-    const float4 c = numDraws == 1 ? mul(argMvp, p) : mul(mvp(d), p);
+    const float4 c = mul(mvp(d), p);
     clip(v) = c;
     snap(v) = snapOrFlag(c, vp, gx, gy);
     if (kWorld) {
@@ -88,7 +83,7 @@ struct TransformVerticesHost {
       const uint32_t end = next < v1 ? next : v1;
       if (v >= end) continue;  // a draw without vertices
       const DrawGPU& dr = t.draws(d);
-      const mat4f m = t.numDraws == 1 ? t.argMvp : t.mvp(d);
+      const mat4f m = t.mvp(d);
       mat4f model{};
       if (kWorld)
         for (int k = 0; k < 16; ++k) model.m[k] = float(dr.model.m[k]);
@@ -124,24 +119,22 @@ void launchTransform(const TransformVertices<kWorld>& t, uint32_t numVerts) {
 
 }  // namespace
 
-void vertexStage(const DeviceScene& s, FrameBuffers& f, const mat4d& viewProj, bool needWorld) {
+void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld) {
   ensureCapacity(f.mvp, "frame.mvp", s.numDraws);
+  Kokkos::parallel_for("rast::vertex::draw_matrices",
+                       lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, s.numDraws)),
+                       DrawMatrices{s.draws, f.mvp, f.uniforms});
   ensureCapacity(f.clip, "frame.clip", s.numVerts);
   ensureCapacity(f.snap, "frame.snap", s.numVerts);
   const float gx = guardBand(f.vp.width), gy = guardBand(f.vp.height);
-  mat4f arg{};
-  if (s.numDraws == 1)
-    arg = drawMvp(viewProj, s.hostModels[0]);
-  else
-    Kokkos::parallel_for("rast::vertex::draw_matrices", Range(0, s.numDraws), DrawMatrices{s.draws, f.mvp, viewProj});
   if (needWorld) {
     ensureCapacity(f.worldPos, "frame.worldPos", s.numVerts);
     ensureCapacity(f.worldNormal, "frame.worldNormal", s.numVerts);
-    launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.numDraws, f.mvp, arg, s.positions,
+    launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.numDraws, f.mvp, s.positions,
                                                         s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
                                 s.numVerts);
   } else {
-    launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.numDraws, f.mvp, arg, s.positions,
+    launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.numDraws, f.mvp, s.positions,
                                                          s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
                                 s.numVerts);
   }

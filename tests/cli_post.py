@@ -79,6 +79,8 @@ for name, extra in [("plain", []), ("post", ["--bloom", "--ssao", "--tonemap", "
         rows[name] = json.load(f)[0]
 check(rows["plain"]["film_bytes"] == 0, "bench: no float film without a pass")
 check(rows["post"]["film_bytes"] >= 96 * 64 * 16, f"bench: the film's bytes reported ({rows['post']['film_bytes']})")
+check(rows["plain"]["total_median_ms"] > 0 and rows["plain"]["staged_total_median_ms"] > 0,
+      "bench: the frame timed whole and stage by stage")
 stages = rows["post"]["stages_median_ms"]
 check(all(p in stages for p in ["ssao", "bloom", "tonemap", "encode"]), f"bench: per-pass times ({', '.join(stages)})")
 sys.exit(1 if failed else 0)

@@ -190,12 +190,11 @@ TEST_CASE("setup: a scene of one chunk gives the raster triangles of the multi-c
   }
 }
 
-TEST_CASE("vertex: a draw matrix passed as a kernel argument equals one computed on the device", "[stability][vertex]") {
-  // A scene of one draw gets its model-view-projection matrix from the host
-  // (in the vertex kernel's arguments); more draws compute theirs in a kernel.
-  // One draw under a rotation and scale that round, alone and then with a
-  // second draw far behind the camera: the visible draw must give the same
-  // bits either way (on a GPU: host arithmetic against device arithmetic).
+TEST_CASE("vertex: a draw's pixels do not depend on the other draws of the scene", "[stability][vertex]") {
+  // Each draw's model-view-projection matrix is computed on the device from
+  // the uploaded view-projection (vertexStage), indexed by the draw. One draw
+  // under a rotation and scale that round, alone and then with a second draw
+  // far behind the camera: the visible draw must give the same bits either way.
   const Scene base = builtinScene("builtin:default");
   Scene one = base;
   one.draws.clear();

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Two rast binaries, the same scenes and cameras, interleaved: the frame time
 # (median of RAST_AB_FRAMES after 20 warm-up frames, per stage) of a change
-# against its base, on the GPU machine. Scenes: the empty frame, the shared
+# against its base, on the GPU machine (and the frames timed stage by stage:
+# "staged"). Scenes: the empty frame, the shared
 # models at rast's own framing, glref's stress scenes and the two views from
 # inside dense models of three_way.sh.
 #
@@ -47,6 +48,8 @@ for spec in sys.argv[6:]:
             for b in json.load(open(js)):
                 rows.append({"scene": name, "binary": label, "requested": b["requested"], "method": b["method"],
                              "total_ms": b["total_median_ms"], "enqueue_host_ms": b.get("enqueue_host_median_ms", ""),
+                             # before the bench timed whole frames apart, its total was the staged sum
+                             "staged_ms": b.get("staged_total_median_ms", b["total_median_ms"]),
                              **{"stage_" + k: v for k, v in b["stages_median_ms"].items()}})
 keys = []
 for r in rows:
@@ -62,5 +65,7 @@ for r in rows:
     b = [x for x in rows if x["binary"] == "base" and x["scene"] == r["scene"] and x["requested"] == r["requested"]]
     bt = b[0]["total_ms"] if b else float("nan")
     st = " ".join(f"{k[6:]}={v:.3f}" for k, v in r.items() if k.startswith("stage_"))
-    print(f"{r['scene']:14} {r['requested']:10} {bt:8.3f} {r['total_ms']:8.3f} {r['total_ms'] / bt:8.2f}  {st} enq={r['enqueue_host_ms']}")
+    bs = b[0]["staged_ms"] if b else float("nan")
+    print(f"{r['scene']:14} {r['requested']:10} {bt:8.3f} {r['total_ms']:8.3f} {r['total_ms'] / bt:8.2f}  "
+          f"staged {bs:.3f}->{r['staged_ms']:.3f}  {st} enq={r['enqueue_host_ms']}")
 EOF
