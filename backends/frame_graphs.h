@@ -10,7 +10,9 @@
 //  - the key is the same: the key names everything the kernels' arguments
 //    depend on besides device memory (settings, method, timer);
 //  - no pipeline buffer has been allocated since it was recorded
-//    (allocation_epoch.h): its kernels hold raw pointers.
+//    (allocation_epoch.h): its kernels hold raw pointers. The count is
+//    process-wide, so another renderer's allocation drops it too: safe, and
+//    a renderer that keeps its buffers (a viewer, a benchmark) still replays.
 // A key's first frame runs directly (its buffers grow), its second frame is
 // recorded (if nothing was allocated in between) and every later one replays.
 // Backends that cannot record run every frame directly; so does every backend
