@@ -3,7 +3,6 @@
 #include "scene.h"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
