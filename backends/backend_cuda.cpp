@@ -17,6 +17,17 @@
 namespace rast {
 
 namespace {
+// Records e on stream s. While s is being recorded into a graph, as an
+// external event: the replay records it, and the host can wait on it and time
+// it (a plain record would only order the graph's nodes).
+void recordEvent(cudaEvent_t e, cudaStream_t s) {
+  cudaStreamCaptureStatus st = cudaStreamCaptureStatusNone;
+  if (cudaStreamIsCapturing(s, &st) == cudaSuccess && st == cudaStreamCaptureStatusActive)
+    cudaEventRecordWithFlags(e, s, cudaEventRecordExternal);
+  else
+    cudaEventRecord(e, s);
+}
+
 struct CudaEvents {
   using Event = cudaEvent_t;
   static Event create() {
@@ -25,17 +36,7 @@ struct CudaEvents {
     return e;
   }
   static void destroy(Event e) { cudaEventDestroy(e); }
-  static void record(Event e) {
-    // Recorded into a graph as an external event: the replay records it, and
-    // the host can wait on it and time it (a plain record would only order
-    // the graph's nodes).
-    const cudaStream_t s = Exec().cuda_stream();
-    cudaStreamCaptureStatus st = cudaStreamCaptureStatusNone;
-    if (cudaStreamIsCapturing(s, &st) == cudaSuccess && st == cudaStreamCaptureStatusActive)
-      cudaEventRecordWithFlags(e, s, cudaEventRecordExternal);
-    else
-      cudaEventRecord(e, s);
-  }
+  static void record(Event e) { recordEvent(e, Exec().cuda_stream()); }
   static void wait(Event e) { cudaEventSynchronize(e); }
   static float elapsedMs(Event from, Event to) {
     float ms = 0.0f;
@@ -93,11 +94,7 @@ class CudaGraphs {
   void copy(const FrameGraphs::Upload& u) {
     const cudaStream_t s = rast::Exec().cuda_stream();
     cudaMemcpyAsync(u.dst, staging_, u.bytes, cudaMemcpyHostToDevice, s);
-    cudaStreamCaptureStatus st = cudaStreamCaptureStatusNone;
-    if (cudaStreamIsCapturing(s, &st) == cudaSuccess && st == cudaStreamCaptureStatusActive)
-      cudaEventRecordWithFlags(copied_, s, cudaEventRecordExternal);
-    else
-      cudaEventRecord(copied_, s);
+    recordEvent(copied_, s);
   }
 
   void begin() { cudaStreamBeginCapture(rast::Exec().cuda_stream(), cudaStreamCaptureModeRelaxed); }
@@ -127,14 +124,7 @@ bool graphsEnabled() {
 }
 }  // namespace
 
-struct FrameGraphs::Impl : RecordedFrames<CudaGraphs> {
-  CudaGraphs plain;  // RAST_FRAME_GRAPHS=0: the same upload, then launches
-  void direct(const Upload& u, const std::function<void()>& launch) {
-    plain.stage(u);
-    plain.copy(u);
-    launch();
-  }
-};
+struct FrameGraphs::Impl : RecordedFrames<CudaGraphs> {};
 
 FrameGraphs::FrameGraphs() : impl_(new Impl) {}
 FrameGraphs::~FrameGraphs() = default;

@@ -85,6 +85,13 @@ class RecordedFrames {
     return false;
   }
 
+  // The upload and launch() with no recording (recording turned off).
+  void direct(const FrameGraphs::Upload& upload, const std::function<void()>& launch) {
+    api_.stage(upload);
+    api_.copy(upload);
+    launch();
+  }
+
  private:
   struct Entry {
     typename Api::Exec exec{};
