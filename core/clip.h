@@ -63,18 +63,25 @@ KOKKOS_INLINE_FUNCTION int clipTriangle(ClipVert (&v)[kMaxClipVerts], float gx, 
   if (outAll) return 0;      // wholly outside one plane
   if (!outAny) return 3;     // wholly inside: the common case
 
+  // Each plane reads one buffer and writes the other (no copying back), and
+  // each vertex's distance is computed once: on a GPU this runs in one
+  // thread while its warp waits, through local memory.
   ClipVert tmp[kMaxClipVerts];
+  ClipVert* src = v;
+  ClipVert* dst = tmp;
   int n = 3;
   for (int k = 0; k < 6; ++k) {
     if (!(outAny & (1 << k))) continue;
     int m = 0;
+    const float d0 = planeDistance(k, src[0].p, gx, gy);
+    float da = d0;
     for (int i = 0; i < n; ++i) {
-      const ClipVert& a = v[i];
-      const ClipVert& b = v[(i + 1) % n];
-      const float da = planeDistance(k, a.p, gx, gy), db = planeDistance(k, b.p, gx, gy);
+      const ClipVert& a = src[i];
+      const ClipVert& b = src[i + 1 < n ? i + 1 : 0];
+      const float db = i + 1 < n ? planeDistance(k, b.p, gx, gy) : d0;
       const bool ina = da >= 0.0f, inb = db >= 0.0f;
       if (m + 2 > kMaxClipVerts) return 0;  // unreachable for convex input; never overflow
-      if (ina) tmp[m++] = a;
+      if (ina) dst[m++] = a;
       if (ina != inb) {
         const ClipVert& in = ina ? a : b;
         const ClipVert& out = ina ? b : a;
@@ -87,13 +94,18 @@ KOKKOS_INLINE_FUNCTION int clipTriangle(ClipVert (&v)[kMaxClipVerts], float gx, 
         r.p.w = in.p.w + t * (out.p.w - in.p.w);
         r.b1 = in.b1 + t * (out.b1 - in.b1);
         r.b2 = in.b2 + t * (out.b2 - in.b2);
-        tmp[m++] = r;
+        dst[m++] = r;
       }
+      da = db;
     }
     n = m;
-    for (int i = 0; i < n; ++i) v[i] = tmp[i];
     if (n < 3) return 0;
+    ClipVert* const t = src;
+    src = dst;
+    dst = t;
   }
+  if (src != v)
+    for (int i = 0; i < n; ++i) v[i] = src[i];
   return n;
 }
 

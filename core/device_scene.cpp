@@ -56,6 +56,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     for (int k = 0; k < 16; ++k) g.model.m[k] = (&dr.model[0][0])[k];
     const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(dr.model));
     for (int k = 0; k < 9; ++k) g.normalMatrix.m[k] = float((&nm[0][0])[k]);
+    d.hostModels.push_back(g.model);
     triStart.push_back(g.dstTri);
     vertStart.push_back(g.dstVertex);
     draws.push_back(g);

@@ -29,6 +29,7 @@ struct DeviceScene {
   uint32_t numLines = 0, numPoints = 0;
 
   uint32_t numDraws = 0, numTris = 0, numVerts = 0;  // drawn counts
+  std::vector<mat4d> hostModels;  // draws' model matrices, for the host-computed MVPs (kHostMatricesMaxDraws)
   bool hasUV = false, hasColor = false, hasTextures = false;
 
   static DeviceScene upload(const Scene& scene);

@@ -30,23 +30,36 @@ struct FrameCamera {
   mat4f view;         // world -> view space (SSAO's geometry)
 };
 struct FrameUniforms {
-  mat4d viewProj;  // the draws' matrices are computed from it on the device (vertexStage)
+  mat4d viewProj;  // the draws' matrices are computed from it (on the device beyond kHostMatricesMaxDraws)
   FrameCamera camera;
+  uint32_t frame;  // counts the renderer's frames (from 1): tags the blocks a frame wrote (RasterBlocks)
 };
+
+// Scenes of at most this many draws have their model-view-projection
+// matrices computed on the host and uploaded with the camera, in the same
+// copy: a frame then has one launch fewer (the draw_matrices kernel), about
+// 3 us on the H100, for at most 16 KiB more to copy.
+constexpr uint32_t kHostMatricesMaxDraws = 256;
+// The upload's layout, in mat4f slots: FrameUniforms, then one MVP per draw.
+constexpr size_t kUniformSlots = (sizeof(FrameUniforms) + sizeof(mat4f) - 1) / sizeof(mat4f);
 
 struct FrameBuffers {
   Viewport vp{0, 0, SamplePattern{}};
-  DView<FrameUniforms> uniforms; // one: this frame's camera
-  DView<mat4f> mvp;          // per draw: model-view-projection
+  DView<mat4f> uploaded;     // what a frame uploads: kUniformSlots of FrameUniforms, then the draws' MVPs
+  DView<FrameUniforms> uniforms; // one: this frame's camera (in `uploaded`)
+  DView<mat4f> mvp;          // per draw: model-view-projection (in `uploaded`)
   DView<float4> clip;        // per drawn vertex
   DView<SnapVert> snap;      // per drawn vertex: window position, or why it needs clipping
   DView<float3> worldPos;    // per drawn vertex, only when shading needs it
   DView<float3> worldNormal; // per drawn vertex, only when shading needs it
   DView<uint32_t> chunkOffset; // per chunk of drawn triangles: raster triangles, then their exclusive prefix sum
+  DView<uint32_t> chunkBlocks; // per chunk of drawn triangles: the visbuffer's first work item
+  uint32_t setupChunks = 0;    // chunks of drawn triangles (primitiveSetup)
   DView<uint8_t> clipCount;    // per drawn triangle that needs clipping: its raster triangles (setup's count -> write)
   DView<RasterTri> tris;     // raster triangles
-  DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work
+  DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work (visbuffer: first item in its chunk)
   DView<uint32_t> blockDepth;  // visbuffer method: per 8x8 block, a bound on its pixels' depth
+  DView<uint32_t> blockFrame;  // visbuffer method: per 8x8 block, the last frame (FrameUniforms::frame) that wrote a key in it
   DView<uint32_t> work;        // method-specific work list (bin entries)
   DView<uint32_t> tileStart;   // binned method: first list entry of each tile
   DView<uint32_t> counters;

@@ -20,6 +20,13 @@
 // write pass six times slower than the count pass on the H100 (0.31 vs 0.03 ms
 // for a million triangles). The total goes to counters(kRasterTris) on the
 // device, so no host round trip is needed inside the frame.
+//
+// For the visbuffer method the write pass also numbers its work items (8x8
+// blocks of each triangle's box, raster_common.h): each raster triangle's
+// first item within its chunk (workOffset), each chunk's first item
+// (chunkBlocks, scanned by the write pass's last team) and the total
+// (counters(kRasterWork)). That replaced a two-kernel scan over all raster
+// triangles; the raster finds an item's triangle by its chunk first.
 #include <cstring>
 #include <type_traits>
 
@@ -204,6 +211,47 @@ static_assert(sizeof(RasterTri) % sizeof(Quad) == 0, "RasterTri is copied in 16-
 // disjoint shared-memory banks (at six pieces, two would share).
 constexpr uint32_t kStageStride = kTriQuads + 1;
 
+// The visbuffer method's item numbering (see the top of the file), shared by
+// both write passes: `blocks` 0 for the other methods, which need none.
+struct BlockNumbering {
+  DView<uint32_t> workOffset, chunkBlocks;
+  uint32_t chunks;
+  int32_t blocks;
+
+  // A chunk's item total: with one chunk it is the total; otherwise the team
+  // that finishes last (a ticket, as CountChunks) scans the chunks' totals
+  // into their first items. Call from one thread of the team.
+  KOKKOS_INLINE_FUNCTION bool publish(const DView<uint32_t>& counters, uint32_t chunk, uint32_t total) const {
+    if (chunks == 1) {
+      chunkBlocks(0) = 0;
+      counters(kRasterWork) = total;
+      return false;
+    }
+    chunkBlocks(chunk) = total;
+    Kokkos::memory_fence();
+    return Kokkos::atomic_fetch_add(&counters(kSetupDone), 1u) == chunks - 1;
+  }
+  // The last team's scan over the chunks, by all its threads (volatile
+  // reads: the totals were written by other teams; see CountChunks).
+  template <class Member>
+  KOKKOS_INLINE_FUNCTION void scanChunks(const Member& m, const DView<uint32_t>& counters) const {
+    Kokkos::memory_fence();
+    const volatile uint32_t* t = chunkBlocks.data();
+    const uint32_t lastTotal = t[chunks - 1];
+    m.team_barrier();  // read before the scan overwrites it
+    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, chunks), [&](const uint32_t i, uint32_t& upd, const bool final) {
+      const uint32_t v = t[i];
+      if (final) chunkBlocks(i) = upd;
+      upd += v;
+    });
+    m.team_barrier();
+    Kokkos::single(Kokkos::PerTeam(m), [&]() {
+      counters(kRasterWork) = chunkBlocks(chunks - 1) + lastTotal;
+      counters(kSetupDone) = 0;  // for the next frame's count pass
+    });
+  }
+};
+
 struct WriteChunks {
   SetupCommon c;
   DView<uint32_t> chunkOffset, counters;
@@ -213,9 +261,10 @@ struct WriteChunks {
   // One chunk only: its offset is 0 and its own count is the total, so the
   // count and scan kernels are skipped and this one writes the total.
   int32_t single;
+  BlockNumbering bn;
 
   static size_t scratchBytes() {
-    return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 2 * sizeof(uint32_t) * (kSetupChunk + 1);
+    return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 4 * sizeof(uint32_t) * (kSetupChunk + 1);
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
@@ -225,12 +274,16 @@ struct WriteChunks {
     Quad* staged = static_cast<Quad*>(shmem.get_shmem_aligned(sizeof(Quad) * kSetupChunk * kStageStride, sizeof(Quad)));
     uint32_t* count = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
     uint32_t* offset = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
+    uint32_t* blk = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
+    uint32_t* blkOffset = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
     // 1. Set up every triangle of the chunk; unclipped ones land in scratch.
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
       bool clipped;
       RasterTri rt;
       const uint32_t k = setupOne<true>(c, first + i, rt, clipped, single ? nullptr : clipCount.data());
       count[i] = clipped ? (k | kClippedFlag) : k;
+      uint32_t bw;
+      blk[i] = bn.blocks && k == 1 && !clipped ? visBlocksOf(rt, bw) : 0u;
       if (k == 1 && !clipped) {
         Quad q[kTriQuads];
         memcpy(q, &rt, sizeof(rt));  // a register copy once compiled
@@ -259,18 +312,55 @@ struct WriteChunks {
       const uint32_t o = base + offset[i];
       if (o < capacity) dst[size_t(o) * kTriQuads + j] = staged[i * kStageStride + j];
     });
-    // 4. Clipped triangles (rare): clip again and write the pieces directly.
+    // 4. Clipped triangles (rare): clip again and write the pieces directly
+    //    (with their first items relative to the drawn triangle's).
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
-      if (!(count[i] & kClippedFlag)) return;
+      if (!(count[i] & kClippedFlag)) {
+        if (base + offset[i] >= capacity) blk[i] = 0;  // not stored: no items
+        return;
+      }
       uint32_t vi[3];
       bool frontCCW;
       c.corners(first + i, vi, frontCCW);
-      uint32_t o = base + offset[i];
+      uint32_t o = base + offset[i], items = 0;
       c.clipAndSetUp<true>(first + i, vi, frontCCW, [&](const RasterTri& rt) {
-        if (o < capacity) tris(o) = rt;
+        if (o < capacity) {
+          tris(o) = rt;
+          if (bn.blocks) {
+            uint32_t bw;
+            bn.workOffset(o) = items;
+            items += visBlocksOf(rt, bw);
+          }
+        }
         ++o;
       });
+      blk[i] = items;
     });
+    if (!bn.blocks) return;
+    m.team_barrier();
+    // 5. The visbuffer's items: each triangle's first within the chunk.
+    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
+      if (final) blkOffset[i] = upd;
+      upd += blk[i];
+    });
+    m.team_barrier();
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
+      const uint32_t o = base + offset[i];
+      if (count[i] == 1u) {
+        if (o < capacity) bn.workOffset(o) = blkOffset[i];
+      } else if (count[i] & kClippedFlag) {
+        const uint32_t pieces = count[i] & ~kClippedFlag;
+        for (uint32_t j = 0; j < pieces && o + j < capacity; ++j) bn.workOffset(o + j) += blkOffset[i];
+      }
+    });
+    uint32_t last = 0;
+    Kokkos::single(
+        Kokkos::PerTeam(m),
+        [&](uint32_t& isLast) {
+          isLast = bn.publish(counters, chunk, len ? blkOffset[len - 1] + blk[len - 1] : 0u) ? 1u : 0u;
+        },
+        last);
+    if (last) bn.scanChunks(m, counters);
   }
 };
 
@@ -286,45 +376,65 @@ struct WriteChunksHost {
   DView<RasterTri> tris;
   uint32_t capacity, numTris;
   int32_t single;  // one chunk: offset 0, and its count is the total (as WriteChunks)
+  BlockNumbering bn;
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
     const uint32_t first = chunk * kSetupChunk, len = chunkLength(chunk, numTris);
     const uint32_t base = single ? 0u : chunkOffset(chunk);
-    uint32_t o = base;
+    uint32_t o = base, items = 0;
+    auto store = [&](const RasterTri& rt) {
+      if (o < capacity) {
+        tris(o) = rt;
+        if (bn.blocks) {
+          uint32_t bw;
+          bn.workOffset(o) = items;
+          items += visBlocksOf(rt, bw);
+        }
+      }
+      ++o;
+    };
     for (uint32_t i = 0; i < len; ++i) {
       bool clipped;
       RasterTri rt;
       const uint32_t k = setupOne<true>(c, first + i, rt, clipped, single ? nullptr : clipCount.data());
       if (!clipped) {
-        if (k == 1 && o < capacity) tris(o) = rt;
-        o += k;
+        if (k == 1) store(rt);
         continue;
       }
       uint32_t vi[3];  // clipped (rare): clip again and write the pieces, as WriteChunks does
       bool frontCCW;
       c.corners(first + i, vi, frontCCW);
-      c.clipAndSetUp<true>(first + i, vi, frontCCW, [&](const RasterTri& piece) {
-        if (o < capacity) tris(o) = piece;
-        ++o;
-      });
+      c.clipAndSetUp<true>(first + i, vi, frontCCW, store);
     }
     if (single) counters(kRasterTris) = o - base;
+    if (bn.blocks && bn.publish(counters, chunk, items)) {
+      Kokkos::memory_fence();
+      uint32_t sum = 0;
+      for (uint32_t i = 0; i < bn.chunks; ++i) {
+        const uint32_t v = bn.chunkBlocks(i);
+        bn.chunkBlocks(i) = sum;
+        sum += v;
+      }
+      counters(kRasterWork) = sum;
+      counters(kSetupDone) = 0;
+    }
   }
 };
 
 // Launches the write pass: WriteChunks' teams on GPUs, WriteChunksHost on
 // host backends (not built for GPUs).
 template <bool kHost>
-void launchWrite(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool single) {
+void launchWrite(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool single,
+                 const BlockNumbering& bn) {
   if constexpr (kHost) {
     using Host = std::conditional_t<kHost, WriteChunksHost, void>;  // dependent: not built for GPUs
     Kokkos::parallel_for("rast::setup::write", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
-                         Host{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0});
+                         Host{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0, bn});
   } else {
     Kokkos::parallel_for("rast::setup::write",
                          lightweight(TeamPolicy(int(chunks), kTeamSize))
                              .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
-                         WriteChunks{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0});
+                         WriteChunks{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0, bn});
   }
 }
 
@@ -339,9 +449,17 @@ void scanExclusive(const char* label, const DView<uint32_t>& data, uint32_t n, c
                         ExclusiveScan{data, counters, n, slot});
 }
 
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack) {
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks) {
   const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
+  f.setupChunks = chunks;
   ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
+  BlockNumbering bn{f.workOffset, f.chunkBlocks, chunks, numberBlocks ? 1 : 0};
+  if (numberBlocks) {
+    ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
+    ensureCapacity(f.chunkBlocks, "frame.setupChunkBlocks", chunks > 0 ? chunks : 1);
+    bn.workOffset = f.workOffset;
+    bn.chunkBlocks = f.chunkBlocks;
+  }
   SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
   // Small scenes (one chunk) take one launch instead of two: launches, not
@@ -352,10 +470,15 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack) {
     Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)),
                          CountChunks{c, f.chunkOffset, f.counters, f.clipCount, s.numTris, chunks});
   }
-  if (chunks > 0)
-    launchWrite<!kOnDevice>(c, f, chunks, s.numTris, single);
-  else
-    scanExclusive("rast::setup::none", f.chunkOffset, 0, f.counters, kRasterTris);  // no triangles: the total is 0
+  if (chunks > 0) {
+    launchWrite<!kOnDevice>(c, f, chunks, s.numTris, single, bn);
+  } else {  // no triangles: no raster triangles or items
+    auto counters = f.counters;
+    Kokkos::parallel_for("rast::setup::none", Range(0, 1), KOKKOS_LAMBDA(const int) {
+      counters(kRasterTris) = 0;
+      counters(kRasterWork) = 0;
+    });
+  }
 }
 
 }  // namespace rast

@@ -214,6 +214,21 @@ KOKKOS_INLINE_FUNCTION uint64_t visKey(float depth, uint32_t rasterIndex) {
 }
 constexpr uint64_t kClearKey = uint64_t(0x3f800000u) << 32;  // depth 1.0, no triangle
 
+// The visbuffer method's work items: a raster triangle's bounding box cut
+// along a fixed grid of 8x8-pixel blocks (raster_visbuffer.cpp); the setup
+// counts them as it writes the triangles (primitive_setup.cpp).
+constexpr int kVisBlockShift = 3;
+constexpr uint32_t kFarDepthBits = 0x3f800000u;  // a block's depth bound when nothing is known: the clear depth
+inline uint32_t visBlocks(const Viewport& vp, int32_t& blocksPerRow) {  // blocks of the frame
+  blocksPerRow = (vp.width + (1 << kVisBlockShift) - 1) >> kVisBlockShift;
+  return uint32_t(blocksPerRow) * uint32_t((vp.height + (1 << kVisBlockShift) - 1) >> kVisBlockShift);
+}
+KOKKOS_INLINE_FUNCTION uint32_t visBlocksOf(const RasterTri& t, uint32_t& bw) {
+  bw = uint32_t((t.maxX >> kVisBlockShift) - (t.minX >> kVisBlockShift) + 1);
+  const uint32_t bh = uint32_t((t.maxY >> kVisBlockShift) - (t.minY >> kVisBlockShift) + 1);
+  return bw * bh;
+}
+
 // Depth-tests raster triangle `index` against the visibility buffer over the
 // pixel rectangle [x0, x1] x [y0, y1] (inside the triangle's bounding box).
 // Edge values step incrementally along a row: exact, since they are integers.

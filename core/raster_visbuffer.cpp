@@ -5,6 +5,10 @@
 // a sub-pixel triangle is one item. Depth is resolved by the 64-bit atomic
 // minimum of visKey, so the result does not depend on scheduling.
 //
+// The items are numbered by the setup as it writes the triangles
+// (primitive_setup.cpp): each chunk's first item, and each triangle's first
+// item within its chunk; an item finds its triangle by two binary searches.
+//
 // Seen from inside a dense model, most (triangle, block) items lie behind
 // walls drawn earlier. Each 8x8 block keeps a bound on the depth of all its
 // pixels (f.blockDepth, float bits): an item whose triangle cannot come
@@ -14,7 +18,14 @@
 // block's bound tightens as triangles fill it, not only when one covers it.
 // The bound only ever holds for every pixel, so a skipped item is one whose
 // every fragment would lose its depth test: the keys are those of the full
-// pass, whatever the order items run in. (Single-sample frames only.)
+// pass, whatever the order items run in. (Single-sample frames only.) The
+// bounds are reset for the next frame where the keys are cleared (the
+// shading pass, or clearVisibility): FrameBuffers::visClear covers both.
+//
+// Each block also records the last frame that wrote a key in it
+// (f.blockFrame): shading reads no keys of a block this frame left alone
+// (they are clear), which is most of the screen for a model in front of a
+// background.
 #include "raster_common.h"
 #include "stages.h"
 
@@ -23,59 +34,46 @@
 namespace rast {
 namespace {
 
-constexpr int kBlockShift = 3;  // 8x8 pixel blocks
-
-KOKKOS_INLINE_FUNCTION uint32_t blocksOf(const RasterTri& t, uint32_t& bw) {
-  bw = uint32_t((t.maxX >> kBlockShift) - (t.minX >> kBlockShift) + 1);
-  const uint32_t bh = uint32_t((t.maxY >> kBlockShift) - (t.minY >> kBlockShift) + 1);
-  return bw * bh;
-}
-
-constexpr uint32_t kFarBits = 0x3f800000u;  // depth 1.0: the clear value's
-
-// Per raster triangle, its number of blocks, summed into the exclusive offsets
-// of its items (blockStart) and the total (counters(kRasterWork)) in one scan:
-// counting inside the scan saves a kernel launch, which costs more than
-// reading the bounding boxes twice. The same items reset the block depth
-// bounds for this frame (the range covers both; the raster kernel runs after).
-struct ScanBlocks {
-  DView<RasterTri> tris;
-  DView<uint32_t> counters, blockStart, blockDepth;
-  uint32_t capacity, numBlocks, n;
-  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint32_t& upd, const bool final) const {
-    const uint32_t nt = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
-    uint32_t bw;
-    const uint32_t b = i < nt ? blocksOf(tris(i), bw) : 0u;
-    if (final) {
-      if (i < capacity) blockStart(i) = upd;
-      if (i < numBlocks) blockDepth(i) = kFarBits;
-      if (i + 1 == n) counters(kRasterWork) = upd + b;
-    }
-    upd += b;
-  }
-};
-
 // Grid-stride loop over the work items: their number is only known on the
 // device, so the launch is sized to fill the machine instead.
 struct RasterBlocks {
   DView<RasterTri> tris;
-  DView<uint32_t> counters, blockStart, blockDepth;
+  DView<uint32_t> counters, chunkOffset, chunkBlocks, workOffset, blockDepth, blockFrame;
+  DView<FrameUniforms> frame;
   DView<uint64_t> vis;
   int32_t width, blocksPerRow;
-  uint32_t numTriSlots, stride;
+  uint32_t capacity, chunks, stride;
   SamplePattern samples;
+
+  // The raster triangle of item w, and the item's index within it: the chunk
+  // holding the item, then the triangle within the chunk.
+  KOKKOS_INLINE_FUNCTION uint32_t triangleOf(uint32_t w, uint32_t& local) const {
+    const uint32_t c = findRange(chunkBlocks, chunks, w);
+    local = w - chunkBlocks(c);
+    uint32_t lo = chunks == 1 ? 0u : chunkOffset(c);
+    uint32_t hi = c + 1 < chunks ? chunkOffset(c + 1) : counters(kRasterTris);
+    hi = hi < capacity ? hi : capacity;
+    while (hi - lo > 1) {  // largest i in [lo, hi) with workOffset(i) <= local
+      const uint32_t mid = lo + (hi - lo) / 2;
+      if (workOffset(mid) <= local) lo = mid; else hi = mid;
+    }
+    local -= workOffset(lo);
+    return lo;
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t thread) const {
     const uint32_t total = counters(kRasterWork);
+    const uint32_t thisFrame = frame(0).frame;
     for (uint32_t w = thread; w < total; w += stride) {
-      const uint32_t i = findRange(blockStart, numTriSlots, w);
+      uint32_t local;
+      const uint32_t i = triangleOf(w, local);
       const RasterTri& t = tris(i);
       uint32_t bw;
-      blocksOf(t, bw);
-      const uint32_t local = w - blockStart(i);
-      const int32_t bx = (t.minX >> kBlockShift) + int32_t(local % bw);
-      const int32_t by = (t.minY >> kBlockShift) + int32_t(local / bw);
-      const int32_t x0 = imax(t.minX, bx << kBlockShift), x1 = imin(t.maxX, ((bx + 1) << kBlockShift) - 1);
-      const int32_t y0 = imax(t.minY, by << kBlockShift), y1 = imin(t.maxY, ((by + 1) << kBlockShift) - 1);
+      visBlocksOf(t, bw);
+      const int32_t bx = (t.minX >> kVisBlockShift) + int32_t(local % bw);
+      const int32_t by = (t.minY >> kVisBlockShift) + int32_t(local / bw);
+      const int32_t x0 = imax(t.minX, bx << kVisBlockShift), x1 = imin(t.maxX, ((bx + 1) << kVisBlockShift) - 1);
+      const int32_t y0 = imax(t.minY, by << kVisBlockShift), y1 = imin(t.maxY, ((by + 1) << kVisBlockShift) - 1);
       if (samples.count > 1) {
         rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
         continue;
@@ -86,8 +84,9 @@ struct RasterBlocks {
       const DepthBounds z = depthBounds(t);
       if (floatBits(z.lo) > blockDepth(b)) continue;  // behind every pixel of the block
       const RectResult r = rasterRect(t, e, i, x0, x1, y0, y1, vis.data(), width, samples);
+      if (r.covered && blockFrame(b) != thisFrame) blockFrame(b) = thisFrame;  // every writer stores the same value
       // Whole blocks only: the bound must hold for all 64 pixels.
-      const bool whole = x1 - x0 == (1 << kBlockShift) - 1 && y1 - y0 == (1 << kBlockShift) - 1;
+      const bool whole = x1 - x0 == (1 << kVisBlockShift) - 1 && y1 - y0 == (1 << kVisBlockShift) - 1;
       if (whole && r.maxDepthBits < blockDepth(b)) Kokkos::atomic_fetch_min(&blockDepth(b), r.maxDepthBits);
     }
   }
@@ -96,19 +95,20 @@ struct RasterBlocks {
 }  // namespace
 
 void rasterVisBuffer(FrameBuffers& f) {
-  ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
-  const int32_t bx = (f.vp.width + (1 << kBlockShift) - 1) >> kBlockShift;
-  const int32_t by = (f.vp.height + (1 << kBlockShift) - 1) >> kBlockShift;
-  const uint32_t numBlocks = uint32_t(bx) * uint32_t(by);
-  ensureCapacity(f.blockDepth, "frame.blockDepth", numBlocks);
+  int32_t bx;
+  const uint32_t numBlocks = visBlocks(f.vp, bx);
+  // The bounds start far. The shading pass that clears the keys resets them
+  // for the next frame (visClear covers both); otherwise, or when they are
+  // new, here.
+  if (ensureCapacity(f.blockDepth, "frame.blockDepth", numBlocks) || !f.visClear)
+    Kokkos::deep_copy(Exec(), Kokkos::subview(f.blockDepth, std::make_pair(size_t(0), size_t(numBlocks))), kFarDepthBits);
+  ensureCapacity(f.blockFrame, "frame.blockFrame", numBlocks);  // stale tags only make shading read clear keys
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
-  const uint32_t n = std::max(f.triCapacity, numBlocks);
-  Kokkos::parallel_scan("rast::raster::visbuffer::scan", Policy(0, n),
-                        ScanBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.triCapacity, numBlocks, n});
+  const uint32_t chunks = f.setupChunks;
   const uint32_t threads = persistentThreads();
   Kokkos::parallel_for("rast::raster::visbuffer::blocks", lightweight(Policy(0, threads)),
-                       RasterBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.vis, f.vp.width, bx, f.triCapacity,
-                                    threads, f.vp.samples});
+                       RasterBlocks{f.tris, f.counters, f.chunkOffset, f.chunkBlocks, f.workOffset, f.blockDepth, f.blockFrame,
+                                    f.uniforms, f.vis, f.vp.width, bx, f.triCapacity, chunks, threads, f.vp.samples});
 }
 
 }  // namespace rast

@@ -13,12 +13,13 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cstring>
 
 namespace rast {
 
 size_t FrameBuffers::bytes() const {
-  return viewBytes(mvp) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(clipCount) +
-         viewBytes(tris) + viewBytes(workOffset) + viewBytes(blockDepth) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
+  return viewBytes(uploaded) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(chunkBlocks) + viewBytes(clipCount) +
+         viewBytes(tris) + viewBytes(workOffset) + viewBytes(blockDepth) + viewBytes(blockFrame) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
 
@@ -167,7 +168,11 @@ void Renderer::prepare(const RenderSettings& rs) {
     }
     uploadedLights_ = rs.lights;
   }
-  ensureCapacity(frame_.uniforms, "frame.uniforms", 1);
+  if (!frame_.uploaded.data()) {
+    frame_.uploaded = allocUninit<mat4f>("frame.uploaded", kUniformSlots + scene_.numDraws);
+    frame_.uniforms = DView<FrameUniforms>(reinterpret_cast<FrameUniforms*>(frame_.uploaded.data()), 1);
+    frame_.mvp = DView<mat4f>(frame_.uploaded.data() + kUniformSlots, scene_.numDraws);
+  }
 }
 
 void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
@@ -180,6 +185,13 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   u.camera.zfar = float(cam.zfar);
   const glm::dmat4 view = cam.view();
   for (int k = 0; k < 16; ++k) u.camera.view.m[k] = float(glm::value_ptr(view)[k]);
+  u.frame = ++frameNumber_;
+  // The upload: the uniforms, then (few draws) the draws' matrices.
+  const bool hostMatrices = scene_.numDraws <= kHostMatricesMaxDraws;
+  upload_.assign(kUniformSlots + (hostMatrices ? scene_.numDraws : 0), mat4f{});
+  std::memcpy(upload_.data(), &u, sizeof u);
+  if (hostMatrices)
+    for (uint32_t d = 0; d < scene_.numDraws; ++d) upload_[kUniformSlots + d] = drawMvp(u.viewProj, scene_.hostModels[d]);
   const bool needWorld =
       !(rs.shading == ShadingMode::Depth || rs.shading == ShadingMode::TexCoord) || rs.wantNormals || rs.post.ssao;
   // The float film: when a post pass or an HDR output needs it, and for every
@@ -200,7 +212,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   if (timer) timer->start();
   // The camera reaches the kernels through device memory, copied first; the
   // launches after it are the same from frame to frame for the same key.
-  graphs_->run(key, timer, visClear, {&u, frame_.uniforms.data(), sizeof u}, [&] {
+  graphs_->run(key, timer, visClear, {upload_.data(), frame_.uploaded.data(), upload_.size() * sizeof(mat4f)}, [&] {
     frame_.visClear = visClear != 0;
     launchFrame(rs, needWorld, film, timer);
     visClear = frame_.visClear ? 1 : 0;
@@ -216,7 +228,8 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
   if (timer) timer->mark("vertex");
 
   Kokkos::Profiling::pushRegion("rast::setup");
-  primitiveSetup(scene_, frame_, rs.cull == CullMode::Back);
+  primitiveSetup(scene_, frame_, rs.cull == CullMode::Back,
+                 lastMethod_ == RasterMethod::VisBuffer && rs.polygon == PolygonMode::Fill);
   Kokkos::Profiling::popRegion();
   if (statsThisFrame_) rasterStatistics(frame_);
   if (timer) timer->mark("setup");
@@ -245,6 +258,9 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
   const LinePass linePass = makeLinePass(scene_, rs);
   // On the CPU the binned raster can shade each tile as it finishes (stages.h):
   // the shade stage's time is then part of the raster's.
+  // Keys only from the visbuffer raster, which tags the blocks it wrote.
+  sp.blockFrames = lastMethod_ == RasterMethod::VisBuffer && rs.polygon == PolygonMode::Fill && rs.msaa == 1 &&
+                   linePass.lineItems() + linePass.pointItems() == 0;
   const bool fused = lastMethod_ == RasterMethod::Binned && rs.polygon == PolygonMode::Fill &&
                      fusedBinnedShadeUsable(frame_, sp, linePass.lineItems() + linePass.pointItems() > 0);
   if (rs.polygon != PolygonMode::Fill) {

@@ -101,6 +101,8 @@ class Renderer {
   bool lastAuto_ = false;
   bool statsThisFrame_ = false;  // auto: this frame runs the statistics pass (kAutoStatsEvery)
   uint32_t autoFrames_ = 0;
+  uint32_t frameNumber_ = 0;  // FrameUniforms::frame of the last frame
+  std::vector<mat4f> upload_;  // the frame's upload (FrameUniforms, draws' MVPs), host side
   bool supersampling_ = false;  // inside renderSupersampled: passes shade to the film, no post chain
   std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
 

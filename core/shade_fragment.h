@@ -70,6 +70,16 @@ struct Shade {
   int32_t clearVis = 0;     // write kClearKey over every sample once read (FrameBuffers::visClear)
   int32_t height = 0;
   int32_t interleaved = 0;  // GPU layout of work items (ShadeInterleaved) instead of runs along rows
+  DView<uint32_t> blockFrame{};  // FrameBuffers::blockFrame, read when p.blockFrames
+  DView<uint32_t> blockDepth{};  // FrameBuffers::blockDepth, reset with the keys when resetBlocks
+  int32_t blocksPerRow = 0, resetBlocks = 0;
+
+  // With the keys cleared for the next frame, the visbuffer's depth bounds
+  // are reset too (raster_visbuffer.cpp), each by its block's first pixel.
+  KOKKOS_INLINE_FUNCTION void resetBlock(int32_t X, int32_t Y) const {
+    if (clearVis && resetBlocks && ((X | Y) & 7) == 0)
+      blockDepth(uint32_t(Y >> 3) * uint32_t(blocksPerRow) + uint32_t(X >> 3)) = kFarDepthBits;
+  }
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
     const float zn = 2.0f * d - 1.0f;
@@ -281,17 +291,25 @@ struct Shade {
   KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
     const uint32_t first = w / kLanes * kLanes * uint32_t(kShadeInterleave) + w % kLanes;
     const uint32_t pixels = uint32_t(width) * uint32_t(height);
+    // A key in a block the raster left alone this frame is clear: not read
+    // (p.blockFrames), which saves most of the frame's reads behind a model.
+    const uint32_t thisFrame = p.blockFrames ? p.frame(0).frame : 0u;
     uint64_t keys[kShadeInterleave];
+    int32_t xs[kShadeInterleave], ys[kShadeInterleave];
     for (int k = 0; k < kShadeInterleave; ++k) {
       const uint32_t i = first + uint32_t(k) * kLanes;
-      keys[k] = i < pixels ? vis(i) : kClearKey;
+      ys[k] = int32_t(i / uint32_t(width));
+      xs[k] = int32_t(i - uint32_t(ys[k]) * uint32_t(width));
+      bool read = i < pixels;
+      if (read && p.blockFrames)
+        read = blockFrame(uint32_t(ys[k] >> 3) * uint32_t(blocksPerRow) + uint32_t(xs[k] >> 3)) == thisFrame;
+      keys[k] = read ? vis(i) : kClearKey;
     }
     TriFrag f;
     for (int k = 0; k < kShadeInterleave; ++k) {
       const uint32_t i = first + uint32_t(k) * kLanes;
       if (i >= pixels) break;
-      const int32_t Y = int32_t(i / uint32_t(width));
-      shadeSingle(int64_t(i), int32_t(i - uint32_t(Y) * uint32_t(width)), Y, f, keys[k]);
+      shadeSingle(int64_t(i), xs[k], ys[k], f, keys[k]);
     }
   }
 
@@ -314,6 +332,7 @@ struct Shade {
     // The next frame's clear, while the key is at hand (FrameBuffers::visClear);
     // background keys are clear already, and an empty pixel costs no store.
     if (clearVis && key0 != kClearKey) vis(i) = kClearKey;
+    resetBlock(X, Y);
     writeIds(i, key0);
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
@@ -373,6 +392,7 @@ struct Shade {
     acc = (acc + bg * float(background)) * (1.0f / float(S));
     if (clearVis)
       for (int s = 0; s < S; ++s) vis(i * S + s) = kClearKey;
+    resetBlock(X, Y);
     if (p.floatOut) hdr(i) = acc;
     else color(i) = display(acc);
     if (p.wantNormals) normalOut(i) = n0;

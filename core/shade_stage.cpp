@@ -133,6 +133,10 @@ Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   k.runsPerRow = (f.vp.width + k.run - 1) / k.run;
   k.height = f.vp.height;
   k.interleaved = kShadeInterleave > 1 && k.run == 1 && f.vp.samples.count == 1;
+  k.blockFrame = f.blockFrame;
+  k.blockDepth = f.blockDepth;
+  const uint32_t numBlocks = visBlocks(f.vp, k.blocksPerRow);
+  k.resetBlocks = f.blockDepth.data() && f.blockDepth.extent(0) >= numBlocks ? 1 : 0;
   return k;
 }
 

@@ -17,12 +17,29 @@ namespace rast {
 void scanExclusive(const char* label, const DView<uint32_t>& data, uint32_t n, const DView<uint32_t>& counters,
                    int slot);
 
-// Every draw's model-view-projection matrix from f.uniforms into f.mvp, then
-// every drawn vertex through it.
+// Every draw's model-view-projection matrix from f.uniforms into f.mvp (unless
+// the host uploaded them: kHostMatricesMaxDraws), then every drawn vertex
+// through it.
 void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld);
 
-// Writes f.tris (up to f.triCapacity) and f.counters(kRasterTris).
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack);
+// MVP = viewProj * model in double, rounded to float once: the same matrix
+// glref hands OpenGL. Plain products and sums (built without FMA contraction,
+// CMakeLists.txt), so the host and every device compute the same bits.
+KOKKOS_INLINE_FUNCTION mat4f drawMvp(const mat4d& vp, const mat4d& m) {
+  mat4f out;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) {
+      double acc = 0.0;
+      for (int k = 0; k < 4; ++k) acc += vp.m[k * 4 + r] * m.m[c * 4 + k];
+      out.m[c * 4 + r] = float(acc);
+    }
+  return out;
+}
+
+// Writes f.tris (up to f.triCapacity) and f.counters(kRasterTris); with
+// numberBlocks, also the visbuffer method's work items (f.workOffset,
+// f.chunkBlocks, f.counters(kRasterWork); primitive_setup.cpp).
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks);
 
 void clearVisibility(FrameBuffers& f);
 
@@ -57,6 +74,10 @@ struct ShadeParams {
   int32_t floatOut, wantGeom;
   float4 backgroundFilm;  // the background as the film holds it
   int32_t shadeRun;       // pixels per shading work item along a row; 0: the backend's kShadeRun
+  // Only the visbuffer raster wrote keys this frame, one sample per pixel:
+  // an 8x8 block whose FrameBuffers::blockFrame is not this frame's holds
+  // only clear keys, and the GPU's shading skips reading them.
+  int32_t blockFrames;
 };
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);

@@ -10,20 +10,6 @@
 namespace rast {
 namespace {
 
-// MVP = viewProj * model in double, rounded to float once: the same matrix
-// glref hands OpenGL. Plain products and sums (device code is built without
-// FMA contraction), so the host and every device compute the same bits.
-KOKKOS_INLINE_FUNCTION mat4f drawMvp(const mat4d& vp, const mat4d& m) {
-  mat4f out;
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r) {
-      double acc = 0.0;
-      for (int k = 0; k < 4; ++k) acc += vp.m[k * 4 + r] * m.m[c * 4 + k];
-      out.m[c * 4 + r] = float(acc);
-    }
-  return out;
-}
-
 // The view-projection comes from device memory (the frame's uploaded
 // uniforms), so that this launch is the same whatever the camera.
 struct DrawMatrices {
@@ -120,10 +106,10 @@ void launchTransform(const TransformVertices<kWorld>& t, uint32_t numVerts) {
 }  // namespace
 
 void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld) {
-  ensureCapacity(f.mvp, "frame.mvp", s.numDraws);
-  Kokkos::parallel_for("rast::vertex::draw_matrices",
-                       lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, s.numDraws)),
-                       DrawMatrices{s.draws, f.mvp, f.uniforms});
+  if (s.numDraws > kHostMatricesMaxDraws)  // else uploaded with the camera (Renderer::enqueue)
+    Kokkos::parallel_for("rast::vertex::draw_matrices",
+                         lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, s.numDraws)),
+                         DrawMatrices{s.draws, f.mvp, f.uniforms});
   ensureCapacity(f.clip, "frame.clip", s.numVerts);
   ensureCapacity(f.snap, "frame.snap", s.numVerts);
   const float gx = guardBand(f.vp.width), gy = guardBand(f.vp.height);
