@@ -52,6 +52,13 @@ constexpr uint64_t kNaiveMaxBoxArea = kOnDevice ? 8 * 8 : 10 * 10;
 // it: every method gives the same ids, depth and colour.
 constexpr uint32_t kAutoStatsEvery = 8;
 
+// GPU setup: scenes of at most this many chunks of 256 triangles set up in
+// one pass, each chunk finding its place by looking back at the chunks before
+// it, one at a time; larger ones count first (primitive_setup.cpp). On the
+// H100 one pass saved 2-8 us up to 17 chunks, was even at 23 (cow) and lost
+// 30 us at 475 (engine) and 320 us at 3,900 (tiny).
+constexpr uint32_t kSetupLookBackMaxChunks = 24;
+
 // Shading: pixels per work item along a row. A CPU thread keeps the last
 // triangle's lookups (draw, indices, vertex attributes, material) across its
 // run, so neighbouring pixels of one triangle pay for them once. A GPU thread

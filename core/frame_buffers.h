@@ -53,11 +53,12 @@ struct FrameBuffers {
   DView<float3> worldPos;    // per drawn vertex, only when shading needs it
   DView<float3> worldNormal; // per drawn vertex, only when shading needs it
   DView<uint32_t> chunkOffset; // per chunk of drawn triangles: raster triangles, then their exclusive prefix sum
-  DView<uint32_t> chunkBlocks; // per chunk of drawn triangles: the visbuffer's first work item
-  uint32_t setupChunks = 0;    // chunks of drawn triangles (primitiveSetup)
+  DView<uint32_t> chunkBlocks; // per chunk of drawn triangles (after a count pass): the visbuffer's first work item
+  DView<uint32_t> setupStatus; // per chunk of drawn triangles (GPUs, few chunks): the setup's look-back status, tagged by frame
   DView<uint8_t> clipCount;    // per drawn triangle that needs clipping: its raster triangles (setup's count -> write)
+  DView<uint32_t> clipBlocks;  // the same triangles' visbuffer work items (GPUs, count pass -> write)
   DView<RasterTri> tris;     // raster triangles
-  DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work (visbuffer: first item in its chunk)
+  DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work (visbuffer: its first item)
   DView<uint32_t> blockDepth;  // visbuffer method: per 8x8 block, a bound on its pixels' depth
   DView<uint32_t> blockFrame;  // visbuffer method: per 8x8 block, the last frame (FrameUniforms::frame) that wrote a key in it
   DView<uint32_t> work;        // method-specific work list (bin entries)

@@ -1,32 +1,30 @@
 // Primitive assembly and triangle setup: fetch indices, clip in homogeneous
 // space, cull, snap, and write the raster triangles in primitive order.
 //
-// The output is compact and ordered without atomics, by a reduce-then-scan over
-// chunks of kSetupChunk drawn triangles:
-//   count  one team per chunk: how many raster triangles the chunk yields (each
-//          drawn triangle gives 0 when culled, degenerate, non-finite or
-//          off-screen, 1 when it needs no clipping, up to kMaxClipVerts-2 when
-//          clipped; a clipped triangle's count is kept for the write pass, so
-//          that it is clipped twice rather than three times);
-//   scan   exclusive scan over the chunk totals (a few thousand numbers), by
-//          the count pass's last team to finish: one launch, not three (a
-//          count kernel and Kokkos' two-kernel scan);
-//   write  one team per chunk redoes the setup into team scratch, scans the
-//          per-triangle counts within the chunk, and copies the chunk's
-//          triangles out word by word, so that neighbouring threads write
-//          neighbouring words.
-// The last step matters on a GPU: a thread storing its own 96-byte triangle
-// sends 24 scattered 4-byte stores per warp instruction to L2, which made the
-// write pass six times slower than the count pass on the H100 (0.31 vs 0.03 ms
-// for a million triangles). The total goes to counters(kRasterTris) on the
-// device, so no host round trip is needed inside the frame.
+// The output is compact and ordered without atomics, in chunks of kSetupChunk
+// drawn triangles, each drawn triangle giving 0 raster triangles (culled,
+// degenerate, non-finite or off-screen), 1 (no clipping) or up to
+// kMaxClipVerts-2 (clipped). For the visbuffer method the setup also numbers
+// the raster's work items (the 8x8 blocks of each raster triangle's box,
+// raster_common.h): each raster triangle's first (workOffset) and the total
+// (counters(kRasterWork)), so the raster needs no scan of its own.
 //
-// For the visbuffer method the write pass also numbers its work items (8x8
-// blocks of each triangle's box, raster_common.h): each raster triangle's
-// first item within its chunk (workOffset), each chunk's first item
-// (chunkBlocks, scanned by the write pass's last team) and the total
-// (counters(kRasterWork)). That replaced a two-kernel scan over all raster
-// triangles; the raster finds an item's triangle by its chunk first.
+// On a GPU, one pass (WriteChunks): one team per chunk sets its triangles up
+// into team scratch, scans their counts, learns where its chunk starts from
+// the chunks before it (a single-pass scan with decoupled look-back), and
+// copies the triangles out word by word, so that neighbouring threads write
+// neighbouring words. The copy matters: a thread storing its own 96-byte
+// triangle sends 24 scattered 4-byte stores per warp instruction to L2, which
+// made the write six times slower than setting up (0.31 vs 0.03 ms for a
+// million triangles on the H100). The one pass replaced a count pass that set
+// every triangle up a second time (8-28 us of a frame on the H100).
+//
+// On a host backend, where a team is one thread: a count pass (chunks'
+// totals, scanned by the last to finish), then a write pass that walks each
+// chunk in order. No thread there waits for another.
+//
+// The totals stay on the device, so no host round trip is needed inside the
+// frame.
 #include <cstring>
 #include <type_traits>
 
@@ -109,10 +107,13 @@ constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces wr
 // `out` holds the raster triangle when the triangle is unclipped and yields one;
 // kDepth: with its corner depths on the unsnapped plane (depth_plane.h), which
 // only the write pass needs. clipCounts: the count pass's counts of clipped
-// triangles, or null to clip and count here.
+// triangles, or null to clip and count here. blocks (unless null): the
+// visbuffer's work items of the raster triangles (with clipCounts, a clipped
+// triangle's come from clipBlocks, the count pass's).
 template <bool kDepth>
 KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped,
-                                         const uint8_t* clipCounts) {
+                                         const uint8_t* clipCounts, uint32_t* blocks = nullptr,
+                                         const uint32_t* clipBlocks = nullptr) {
   uint32_t vi[3];
   bool frontCCW;
   c.corners(t, vi, frontCCW);
@@ -125,6 +126,7 @@ KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, Raste
     all &= code;
   }
   clipped = false;
+  if (blocks) *blocks = 0;
   if (any == 0) {  // the common case: inside every plane, w > 0
     putCorner(out, 0, s[0], 0.0f, 0.0f);
     putCorner(out, 1, s[1], 1.0f, 0.0f);
@@ -134,13 +136,22 @@ KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, Raste
       const int32_t ry[3] = {fineResidual(s[0].y), fineResidual(s[1].y), fineResidual(s[2].y)};
       depthAtSnappedCorners(out, rx, ry);
     }
-    return finishTriangle(c.vp, c.cullBack != 0, frontCCW, t, out) ? 1u : 0u;
+    if (!finishTriangle(c.vp, c.cullBack != 0, frontCCW, t, out)) return 0;
+    uint32_t bw;
+    if (blocks) *blocks = visBlocksOf(out, bw);
+    return 1;
   }
   if ((any & kCodeNonFinite) || (all & 0x3fu)) return 0;  // not drawable, or wholly outside one plane
   if (!(any & 0x3fu)) return 0;                           // inside every plane, but some w <= 0
   clipped = true;
-  if (clipCounts) return clipCounts[t];
-  return c.clipAndSetUp<false>(t, vi, frontCCW, [](const RasterTri&) {});
+  if (clipCounts) {
+    if (blocks && clipBlocks) *blocks = clipBlocks[t];
+    return clipCounts[t];
+  }
+  return c.clipAndSetUp<false>(t, vi, frontCCW, [&](const RasterTri& piece) {
+    uint32_t bw;
+    if (blocks) *blocks += visBlocksOf(piece, bw);
+  });
 }
 
 KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
@@ -148,53 +159,113 @@ KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
   return n - first < kSetupChunk ? n - first : kSetupChunk;
 }
 
-struct CountChunks {
+// The host backends' count pass (GPUs number their chunks in the write pass:
+// WriteChunks), one chunk per work item: its raster triangles (and, with
+// blocks, visbuffer work items). The item that finishes last (a ticket; the
+// fences order each item's totals before its ticket) scans every chunk's
+// totals in place into offsets. Which item that is depends on scheduling;
+// what it writes does not.
+struct CountChunksHost {
   SetupCommon c;
-  DView<uint32_t> chunkCount, counters;
+  DView<uint32_t> chunkCount, chunkBlocks, counters;
   DView<uint8_t> clipCount;
   uint32_t numTris, chunks;
+  int32_t blocks;
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
+    const uint32_t first = chunk * kSetupChunk, len = chunkLength(chunk, numTris);
+    uint32_t sum = 0, items = 0;
+    for (uint32_t i = 0; i < len; ++i) {
+      RasterTri rt;
+      bool clipped;
+      uint32_t b = 0;
+      const uint32_t k = setupOne<false>(c, first + i, rt, clipped, nullptr, blocks ? &b : nullptr);
+      if (clipped) clipCount(first + i) = uint8_t(k);  // at most kMaxClipVerts - 2
+      sum += k;
+      items += b;
+    }
+    chunkCount(chunk) = sum;
+    if (blocks) chunkBlocks(chunk) = items;
+    Kokkos::memory_fence();
+    if (Kokkos::atomic_fetch_add(&counters(kSetupDone), 1u) != chunks - 1) return;
+    Kokkos::memory_fence();
+    uint32_t tris = 0, work = 0;
+    for (uint32_t i = 0; i < chunks; ++i) {
+      const uint32_t v = chunkCount(i), w = blocks ? chunkBlocks(i) : 0u;
+      chunkCount(i) = tris;
+      if (blocks) chunkBlocks(i) = work;
+      tris += v;
+      work += w;
+    }
+    counters(kRasterTris) = tris;
+    if (blocks) counters(kRasterWork) = work;
+    counters(kSetupDone) = 0;  // for the next frame
+  }
+};
+
+// The GPU's count pass, for scenes of more than kSetupLookBackMaxChunks
+// chunks: one team per chunk counts its raster triangles (and, with blocks,
+// visbuffer items), keeping each clipped triangle's counts for the write
+// pass; the team that finishes last (a ticket, as CountChunksHost) scans the
+// chunks' totals, by all its threads.
+struct CountChunks {
+  SetupCommon c;
+  DView<uint32_t> chunkCount, chunkBlocks, counters, clipBlocks;
+  DView<uint8_t> clipCount;
+  uint32_t numTris, chunks;
+  int32_t blocks;
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
     const uint32_t chunk = uint32_t(m.league_rank()), first = chunk * kSetupChunk;
-    uint32_t sum = 0;
+    // Raster triangles above bit 40, items below: a chunk has fewer than 2^12
+    // of the one and 2^36 of the other.
+    uint64_t sum = 0;
     Kokkos::parallel_reduce(
         Kokkos::TeamThreadRange(m, chunkLength(chunk, numTris)),
-        [&](const uint32_t i, uint32_t& acc) {
+        [&](const uint32_t i, uint64_t& acc) {
           RasterTri rt;
           bool clipped;
-          const uint32_t k = setupOne<false>(c, first + i, rt, clipped, nullptr);
-          if (clipped) clipCount(first + i) = uint8_t(k);  // at most kMaxClipVerts - 2
-          acc += k;
+          uint32_t b = 0;
+          const uint32_t k = setupOne<false>(c, first + i, rt, clipped, nullptr, blocks ? &b : nullptr);
+          if (clipped) {
+            clipCount(first + i) = uint8_t(k);  // at most kMaxClipVerts - 2
+            if (blocks) clipBlocks(first + i) = b;
+          }
+          acc += uint64_t(k) << 40 | b;
         },
         sum);
-    // Publish the count, then take a ticket: the team that draws the last one
-    // sees every count (the fences order each team's count before its ticket)
-    // and scans them in place into chunk offsets. Which team that is depends
-    // on scheduling; what it writes does not.
     uint32_t last = 0;
     Kokkos::single(
         Kokkos::PerTeam(m),
         [&](uint32_t& isLast) {
-          chunkCount(chunk) = sum;
+          chunkCount(chunk) = uint32_t(sum >> 40);
+          if (blocks) chunkBlocks(chunk) = uint32_t(sum & ((uint64_t(1) << 40) - 1));
           Kokkos::memory_fence();
           isLast = Kokkos::atomic_fetch_add(&counters(kSetupDone), 1u) == chunks - 1 ? 1u : 0u;
         },
         last);
     if (!last) return;
     Kokkos::memory_fence();
-    // Volatile reads: the counts were written by other teams, maybe on other
+    // Volatile reads: the totals were written by other teams, maybe on other
     // multiprocessors, and must not come from a stale cache line (atomic
     // reads did the same, 30 us slower for tiny's 3,900 chunks on the H100).
     const volatile uint32_t* counts = chunkCount.data();
-    const uint32_t lastCount = counts[chunks - 1];
-    m.team_barrier();  // read before the scan overwrites it
+    const volatile uint32_t* items = chunkBlocks.data();
+    const uint32_t lastCount = counts[chunks - 1], lastItems = blocks ? items[chunks - 1] : 0u;
+    m.team_barrier();  // read before the scans overwrite them
     Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, chunks), [&](const uint32_t i, uint32_t& upd, const bool final) {
       const uint32_t v = counts[i];
       if (final) chunkCount(i) = upd;
       upd += v;
     });
+    if (blocks)
+      Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, chunks), [&](const uint32_t i, uint32_t& upd, const bool final) {
+        const uint32_t v = items[i];
+        if (final) chunkBlocks(i) = upd;
+        upd += v;
+      });
     m.team_barrier();
     Kokkos::single(Kokkos::PerTeam(m), [&]() {
       counters(kRasterTris) = chunkCount(chunks - 1) + lastCount;
+      if (blocks) counters(kRasterWork) = chunkBlocks(chunks - 1) + lastItems;
       counters(kSetupDone) = 0;  // for the next frame
     });
   }
@@ -211,79 +282,114 @@ static_assert(sizeof(RasterTri) % sizeof(Quad) == 0, "RasterTri is copied in 16-
 // disjoint shared-memory banks (at six pieces, two would share).
 constexpr uint32_t kStageStride = kTriQuads + 1;
 
-// The visbuffer method's item numbering (see the top of the file), shared by
-// both write passes: `blocks` 0 for the other methods, which need none.
-struct BlockNumbering {
-  DView<uint32_t> workOffset, chunkBlocks;
-  uint32_t chunks;
-  int32_t blocks;
+// Chunk status for the write pass's look-back, kStatusWords per chunk: a flag
+// and two totals (raster triangles, visbuffer items) for the chunk alone
+// (aggregate), then the same through the chunk (inclusive). A flag holds the
+// frame number (FrameUniforms::frame) it was published in, so nothing is
+// reset between frames; the buffer starts zeroed and frames count from 1.
+constexpr uint32_t kStatusWords = 8;
+enum : uint32_t { kAggFlag = 0, kAggTris, kAggItems, kIncFlag = 4, kIncTris, kIncItems };
 
-  // A chunk's item total: with one chunk it is the total; otherwise the team
-  // that finishes last (a ticket, as CountChunks) scans the chunks' totals
-  // into their first items. Call from one thread of the team.
-  KOKKOS_INLINE_FUNCTION bool publish(const DView<uint32_t>& counters, uint32_t chunk, uint32_t total) const {
-    if (chunks == 1) {
-      chunkBlocks(0) = 0;
-      counters(kRasterWork) = total;
-      return false;
-    }
-    chunkBlocks(chunk) = total;
-    Kokkos::memory_fence();
-    return Kokkos::atomic_fetch_add(&counters(kSetupDone), 1u) == chunks - 1;
-  }
-  // The last team's scan over the chunks, by all its threads (volatile
-  // reads: the totals were written by other teams; see CountChunks).
-  template <class Member>
-  KOKKOS_INLINE_FUNCTION void scanChunks(const Member& m, const DView<uint32_t>& counters) const {
-    Kokkos::memory_fence();
-    const volatile uint32_t* t = chunkBlocks.data();
-    const uint32_t lastTotal = t[chunks - 1];
-    m.team_barrier();  // read before the scan overwrites it
-    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, chunks), [&](const uint32_t i, uint32_t& upd, const bool final) {
-      const uint32_t v = t[i];
-      if (final) chunkBlocks(i) = upd;
-      upd += v;
-    });
-    m.team_barrier();
-    Kokkos::single(Kokkos::PerTeam(m), [&]() {
-      counters(kRasterWork) = chunkBlocks(chunks - 1) + lastTotal;
-      counters(kSetupDone) = 0;  // for the next frame's count pass
-    });
-  }
-};
-
+// The GPU's setup in one pass (Merrill and Garland's single-pass scan with
+// decoupled look-back): each team takes the next chunk by ticket, sets up its
+// triangles into scratch, publishes the chunk's totals, and sums the totals
+// of the chunks before it, waiting only for chunks that drew earlier tickets
+// (they are running, and never wait for later ones, so every wait ends).
 struct WriteChunks {
   SetupCommon c;
-  DView<uint32_t> chunkOffset, counters;
-  DView<uint8_t> clipCount;  // the count pass's (unused with one chunk)
+  DView<uint32_t> status, counters, workOffset;
+  DView<FrameUniforms> frame;
   DView<RasterTri> tris;
-  uint32_t capacity, numTris;
-  // One chunk only: its offset is 0 and its own count is the total, so the
-  // count and scan kernels are skipped and this one writes the total.
-  int32_t single;
-  BlockNumbering bn;
+  uint32_t capacity, numTris, chunks;
+  int32_t blocks;  // number the visbuffer's work items
+  // Without look-back: the count pass ran, and gives each chunk's first
+  // raster triangle and item, and each clipped triangle's counts.
+  int32_t lookBackMode;
+  DView<uint32_t> chunkOffset, chunkBlocks, clipBlocks;
+  DView<uint8_t> clipCount;
 
   static size_t scratchBytes() {
-    return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 4 * sizeof(uint32_t) * (kSetupChunk + 1);
+    // Under 32 KiB: more would make the H100 switch its shared-memory
+    // carve-out between this kernel and the others (3-4 us a frame).
+    return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 3 * sizeof(uint32_t) * (kSetupChunk + 1) + 64;
+  }
+
+  // One thread: publish this chunk's totals, add up the chunks before it, and
+  // publish the inclusive totals. Returns the exclusive ones.
+  KOKKOS_INLINE_FUNCTION void lookBack(uint32_t chunk, uint32_t tot, uint32_t items, uint32_t& baseTris,
+                                       uint32_t& baseItems) const {
+    baseTris = 0;
+    baseItems = 0;
+    if (chunks == 1) {  // nobody looks back at it
+      counters(kRasterTris) = tot;
+      if (blocks) counters(kRasterWork) = items;
+      return;
+    }
+    const uint32_t tag = frame(0).frame;
+    volatile uint32_t* st = status.data();
+    if (chunk > 0) {
+      st[chunk * kStatusWords + kAggTris] = tot;
+      st[chunk * kStatusWords + kAggItems] = items;
+      Kokkos::memory_fence();
+      st[chunk * kStatusWords + kAggFlag] = tag;
+      for (uint32_t p = chunk - 1;;) {
+        volatile uint32_t* q = st + p * kStatusWords;
+        if (q[kIncFlag] == tag) {
+          Kokkos::memory_fence();
+          baseTris += q[kIncTris];
+          baseItems += q[kIncItems];
+          break;
+        }
+        if (q[kAggFlag] == tag) {
+          Kokkos::memory_fence();
+          baseTris += q[kAggTris];
+          baseItems += q[kAggItems];
+          --p;  // chunk 0 publishes its inclusive totals at once: p never passes it
+        }
+      }
+    }
+    st[chunk * kStatusWords + kIncTris] = baseTris + tot;
+    st[chunk * kStatusWords + kIncItems] = baseItems + items;
+    Kokkos::memory_fence();
+    st[chunk * kStatusWords + kIncFlag] = tag;
+    if (chunk + 1 == chunks) {
+      counters(kRasterTris) = baseTris + tot;
+      if (blocks) counters(kRasterWork) = baseItems + items;
+    }
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
-    const uint32_t chunk = uint32_t(m.league_rank()), first = chunk * kSetupChunk;
-    const uint32_t len = chunkLength(chunk, numTris);
     auto& shmem = m.team_scratch(0);
     Quad* staged = static_cast<Quad*>(shmem.get_shmem_aligned(sizeof(Quad) * kSetupChunk * kStageStride, sizeof(Quad)));
     uint32_t* count = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
     uint32_t* offset = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
     uint32_t* blk = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
-    uint32_t* blkOffset = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
-    // 1. Set up every triangle of the chunk; unclipped ones land in scratch.
+    uint32_t* shared = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * 4, sizeof(uint32_t)));
+    // 0. This team's chunk: by ticket, so that earlier chunks are running.
+    //    The last ticket's holder resets the counter for the next frame (all
+    //    tickets are drawn by then).
+    const bool ticket = lookBackMode && chunks > 1;
+    if (ticket) {
+      Kokkos::single(Kokkos::PerTeam(m), [&]() {
+        const uint32_t ch = Kokkos::atomic_fetch_add(&counters(kSetupDone), 1u);
+        if (ch + 1 == chunks) counters(kSetupDone) = 0;
+        shared[0] = ch;
+      });
+      m.team_barrier();
+    }
+    const uint32_t chunk = ticket ? shared[0] : uint32_t(m.league_rank()), first = chunk * kSetupChunk;
+    const uint32_t len = chunkLength(chunk, numTris);
+    // 1. Set up every triangle of the chunk; unclipped ones land in scratch,
+    //    clipped ones are clipped to be counted (and again to be written).
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
       bool clipped;
       RasterTri rt;
-      const uint32_t k = setupOne<true>(c, first + i, rt, clipped, single ? nullptr : clipCount.data());
+      uint32_t b = 0;
+      const uint32_t k = setupOne<true>(c, first + i, rt, clipped, lookBackMode ? nullptr : clipCount.data(),
+                                        blocks ? &b : nullptr, lookBackMode || !blocks ? nullptr : clipBlocks.data());
       count[i] = clipped ? (k | kClippedFlag) : k;
-      uint32_t bw;
-      blk[i] = bn.blocks && k == 1 && !clipped ? visBlocksOf(rt, bw) : 0u;
+      blk[i] = b;
+      if (i + 1 == len) shared[3] = b;  // the scan below overwrites blk in place
       if (k == 1 && !clipped) {
         Quad q[kTriQuads];
         memcpy(q, &rt, sizeof(rt));  // a register copy once compiled
@@ -291,19 +397,33 @@ struct WriteChunks {
       }
     });
     m.team_barrier();
-    // 2. Where each triangle's pieces go within the chunk's output.
+    // 2. Where each triangle's pieces (and items) go within the chunk's.
     Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
       const uint32_t k = count[i] & ~kClippedFlag;
       if (final) offset[i] = upd;
       upd += k;
     });
-    m.team_barrier();
-    const uint32_t base = single ? 0u : chunkOffset(chunk);
-    if (single)
-      Kokkos::single(Kokkos::PerTeam(m), [&]() {
-        counters(kRasterTris) = len ? offset[len - 1] + (count[len - 1] & ~kClippedFlag) : 0u;
+    if (blocks)
+      Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
+        const uint32_t v = blk[i];
+        if (final) blk[i] = upd;
+        upd += v;
       });
-    // 3. Unclipped triangles, copied piece by piece: neighbouring threads
+    m.team_barrier();
+    // 3. Where the chunk's go: after the chunks before it.
+    Kokkos::single(Kokkos::PerTeam(m), [&]() {
+      if (!lookBackMode) {
+        shared[1] = chunkOffset(chunk);
+        shared[2] = blocks ? chunkBlocks(chunk) : 0u;
+        return;
+      }
+      const uint32_t tot = len ? offset[len - 1] + (count[len - 1] & ~kClippedFlag) : 0u;
+      const uint32_t items = blocks && len ? blk[len - 1] + shared[3] : 0u;
+      lookBack(chunk, tot, items, shared[1], shared[2]);
+    });
+    m.team_barrier();
+    const uint32_t base = shared[1], itemBase = shared[2];
+    // 4. Unclipped triangles, copied piece by piece: neighbouring threads
     //    write neighbouring 16 bytes (coalesced on a GPU).
     Quad* dst = reinterpret_cast<Quad*>(tris.data());
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len * kTriQuads), [&](const uint32_t w) {
@@ -312,55 +432,28 @@ struct WriteChunks {
       const uint32_t o = base + offset[i];
       if (o < capacity) dst[size_t(o) * kTriQuads + j] = staged[i * kStageStride + j];
     });
-    // 4. Clipped triangles (rare): clip again and write the pieces directly
-    //    (with their first items relative to the drawn triangle's).
+    // 5. Each raster triangle's first item; clipped triangles (rare) are
+    //    clipped again and their pieces written directly.
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
+      uint32_t o = base + offset[i];
+      uint32_t item = itemBase + (blocks ? blk[i] : 0u);
       if (!(count[i] & kClippedFlag)) {
-        if (base + offset[i] >= capacity) blk[i] = 0;  // not stored: no items
+        if (blocks && count[i] == 1u && o < capacity) workOffset(o) = item;
         return;
       }
       uint32_t vi[3];
       bool frontCCW;
       c.corners(first + i, vi, frontCCW);
-      uint32_t o = base + offset[i], items = 0;
       c.clipAndSetUp<true>(first + i, vi, frontCCW, [&](const RasterTri& rt) {
         if (o < capacity) {
           tris(o) = rt;
-          if (bn.blocks) {
-            uint32_t bw;
-            bn.workOffset(o) = items;
-            items += visBlocksOf(rt, bw);
-          }
+          uint32_t bw;
+          if (blocks) workOffset(o) = item;
+          item += blocks ? visBlocksOf(rt, bw) : 0u;
         }
         ++o;
       });
-      blk[i] = items;
     });
-    if (!bn.blocks) return;
-    m.team_barrier();
-    // 5. The visbuffer's items: each triangle's first within the chunk.
-    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
-      if (final) blkOffset[i] = upd;
-      upd += blk[i];
-    });
-    m.team_barrier();
-    Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
-      const uint32_t o = base + offset[i];
-      if (count[i] == 1u) {
-        if (o < capacity) bn.workOffset(o) = blkOffset[i];
-      } else if (count[i] & kClippedFlag) {
-        const uint32_t pieces = count[i] & ~kClippedFlag;
-        for (uint32_t j = 0; j < pieces && o + j < capacity; ++j) bn.workOffset(o + j) += blkOffset[i];
-      }
-    });
-    uint32_t last = 0;
-    Kokkos::single(
-        Kokkos::PerTeam(m),
-        [&](uint32_t& isLast) {
-          isLast = bn.publish(counters, chunk, len ? blkOffset[len - 1] + blk[len - 1] : 0u) ? 1u : 0u;
-        },
-        last);
-    if (last) bn.scanChunks(m, counters);
   }
 };
 
@@ -371,24 +464,24 @@ struct WriteChunks {
 // same triangles at the same offsets.
 struct WriteChunksHost {
   SetupCommon c;
-  DView<uint32_t> chunkOffset, counters;
+  DView<uint32_t> chunkOffset, chunkBlocks, counters, workOffset;
   DView<uint8_t> clipCount;  // the count pass's (unused with one chunk)
   DView<RasterTri> tris;
   uint32_t capacity, numTris;
   int32_t single;  // one chunk: offset 0, and its count is the total (as WriteChunks)
-  BlockNumbering bn;
+  int32_t blocks;  // number the visbuffer's work items
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
     const uint32_t first = chunk * kSetupChunk, len = chunkLength(chunk, numTris);
     const uint32_t base = single ? 0u : chunkOffset(chunk);
-    uint32_t o = base, items = 0;
+    uint32_t o = base, item = single || !blocks ? 0u : chunkBlocks(chunk);
     auto store = [&](const RasterTri& rt) {
       if (o < capacity) {
         tris(o) = rt;
-        if (bn.blocks) {
+        if (blocks) {
           uint32_t bw;
-          bn.workOffset(o) = items;
-          items += visBlocksOf(rt, bw);
+          workOffset(o) = item;
+          item += visBlocksOf(rt, bw);
         }
       }
       ++o;
@@ -406,35 +499,51 @@ struct WriteChunksHost {
       c.corners(first + i, vi, frontCCW);
       c.clipAndSetUp<true>(first + i, vi, frontCCW, store);
     }
-    if (single) counters(kRasterTris) = o - base;
-    if (bn.blocks && bn.publish(counters, chunk, items)) {
-      Kokkos::memory_fence();
-      uint32_t sum = 0;
-      for (uint32_t i = 0; i < bn.chunks; ++i) {
-        const uint32_t v = bn.chunkBlocks(i);
-        bn.chunkBlocks(i) = sum;
-        sum += v;
-      }
-      counters(kRasterWork) = sum;
-      counters(kSetupDone) = 0;
+    if (single) {
+      counters(kRasterTris) = o - base;
+      if (blocks) counters(kRasterWork) = item;
     }
   }
 };
 
-// Launches the write pass: WriteChunks' teams on GPUs, WriteChunksHost on
-// host backends (not built for GPUs).
+// Launches the setup: one pass of WriteChunks' teams on GPUs; the count pass
+// (more than one chunk) and WriteChunksHost on host backends (not built for
+// GPUs).
 template <bool kHost>
-void launchWrite(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool single,
-                 const BlockNumbering& bn) {
+void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool blocks) {
   if constexpr (kHost) {
     using Host = std::conditional_t<kHost, WriteChunksHost, void>;  // dependent: not built for GPUs
+    const bool single = chunks == 1;
+    if (!single) {
+      ensureCapacity(f.clipCount, "frame.setupClipCount", numTris);
+      ensureCapacity(f.chunkBlocks, "frame.setupChunkBlocks", chunks);
+      using Count = std::conditional_t<kHost, CountChunksHost, void>;
+      Kokkos::parallel_for("rast::setup::count", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
+                           Count{c, f.chunkOffset, f.chunkBlocks, f.counters, f.clipCount, numTris, chunks, blocks ? 1 : 0});
+    }
     Kokkos::parallel_for("rast::setup::write", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
-                         Host{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0, bn});
+                         Host{c, f.chunkOffset, f.chunkBlocks, f.counters, f.workOffset, f.clipCount, f.tris, f.triCapacity,
+                              numTris, single ? 1 : 0, blocks ? 1 : 0});
   } else {
+    // The look-back's wait grows with the number of chunks (one thread walks
+    // back chunk by chunk): beyond kSetupLookBackMaxChunks a count pass first.
+    const bool lookBack = chunks <= kSetupLookBackMaxChunks;
+    if (lookBack && f.setupStatus.extent(0) < size_t(chunks) * kStatusWords)  // zeroed: no flag of a frame yet
+      f.setupStatus = allocZeroed<uint32_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
+    if (!lookBack) {
+      ensureCapacity(f.clipCount, "frame.setupClipCount", numTris);
+      ensureCapacity(f.chunkBlocks, "frame.setupChunkBlocks", chunks);
+      if (blocks) ensureCapacity(f.clipBlocks, "frame.setupClipBlocks", numTris);
+      Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)),
+                           CountChunks{c, f.chunkOffset, f.chunkBlocks, f.counters, f.clipBlocks, f.clipCount, numTris,
+                                       chunks, blocks ? 1 : 0});
+    }
     Kokkos::parallel_for("rast::setup::write",
                          lightweight(TeamPolicy(int(chunks), kTeamSize))
                              .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
-                         WriteChunks{c, f.chunkOffset, f.counters, f.clipCount, f.tris, f.triCapacity, numTris, single ? 1 : 0, bn});
+                         WriteChunks{c, f.setupStatus, f.counters, f.workOffset, f.uniforms, f.tris, f.triCapacity, numTris,
+                                     chunks, blocks ? 1 : 0, lookBack ? 1 : 0, f.chunkOffset, f.chunkBlocks, f.clipBlocks,
+                                     f.clipCount});
   }
 }
 
@@ -451,27 +560,12 @@ void scanExclusive(const char* label, const DView<uint32_t>& data, uint32_t n, c
 
 void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks) {
   const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
-  f.setupChunks = chunks;
   ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
-  BlockNumbering bn{f.workOffset, f.chunkBlocks, chunks, numberBlocks ? 1 : 0};
-  if (numberBlocks) {
-    ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
-    ensureCapacity(f.chunkBlocks, "frame.setupChunkBlocks", chunks > 0 ? chunks : 1);
-    bn.workOffset = f.workOffset;
-    bn.chunkBlocks = f.chunkBlocks;
-  }
+  if (numberBlocks) ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
   SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
-  // Small scenes (one chunk) take one launch instead of two: launches, not
-  // work, are most of their frame on a GPU.
-  const bool single = chunks == 1;
-  if (chunks > 1) {
-    ensureCapacity(f.clipCount, "frame.setupClipCount", s.numTris);
-    Kokkos::parallel_for("rast::setup::count", lightweight(TeamPolicy(int(chunks), kTeamSize)),
-                         CountChunks{c, f.chunkOffset, f.counters, f.clipCount, s.numTris, chunks});
-  }
   if (chunks > 0) {
-    launchWrite<!kOnDevice>(c, f, chunks, s.numTris, single, bn);
+    launchSetup<!kOnDevice>(c, f, chunks, s.numTris, numberBlocks);
   } else {  // no triangles: no raster triangles or items
     auto counters = f.counters;
     Kokkos::parallel_for("rast::setup::none", Range(0, 1), KOKKOS_LAMBDA(const int) {

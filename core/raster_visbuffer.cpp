@@ -6,8 +6,8 @@
 // minimum of visKey, so the result does not depend on scheduling.
 //
 // The items are numbered by the setup as it writes the triangles
-// (primitive_setup.cpp): each chunk's first item, and each triangle's first
-// item within its chunk; an item finds its triangle by two binary searches.
+// (primitive_setup.cpp): each triangle's first item, in workOffset; an item
+// finds its triangle by a binary search there.
 //
 // Seen from inside a dense model, most (triangle, block) items lie behind
 // walls drawn earlier. Each 8x8 block keeps a bound on the depth of all its
@@ -38,38 +38,25 @@ namespace {
 // device, so the launch is sized to fill the machine instead.
 struct RasterBlocks {
   DView<RasterTri> tris;
-  DView<uint32_t> counters, chunkOffset, chunkBlocks, workOffset, blockDepth, blockFrame;
+  DView<uint32_t> counters, workOffset, blockDepth, blockFrame;
   DView<FrameUniforms> frame;
   DView<uint64_t> vis;
   int32_t width, blocksPerRow;
-  uint32_t capacity, chunks, stride;
+  uint32_t capacity, stride;
   SamplePattern samples;
-
-  // The raster triangle of item w, and the item's index within it: the chunk
-  // holding the item, then the triangle within the chunk.
-  KOKKOS_INLINE_FUNCTION uint32_t triangleOf(uint32_t w, uint32_t& local) const {
-    const uint32_t c = findRange(chunkBlocks, chunks, w);
-    local = w - chunkBlocks(c);
-    uint32_t lo = chunks == 1 ? 0u : chunkOffset(c);
-    uint32_t hi = c + 1 < chunks ? chunkOffset(c + 1) : counters(kRasterTris);
-    hi = hi < capacity ? hi : capacity;
-    while (hi - lo > 1) {  // largest i in [lo, hi) with workOffset(i) <= local
-      const uint32_t mid = lo + (hi - lo) / 2;
-      if (workOffset(mid) <= local) lo = mid; else hi = mid;
-    }
-    local -= workOffset(lo);
-    return lo;
-  }
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t thread) const {
     const uint32_t total = counters(kRasterWork);
+    const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     const uint32_t thisFrame = frame(0).frame;
     for (uint32_t w = thread; w < total; w += stride) {
-      uint32_t local;
-      const uint32_t i = triangleOf(w, local);
+      const uint32_t i = findRange(workOffset, n, w);
       const RasterTri& t = tris(i);
       uint32_t bw;
-      visBlocksOf(t, bw);
+      const uint32_t local = w - workOffset(i);
+      // Items of triangles past the capacity were counted but not stored
+      // (the frame is drawn again with a larger buffer): none to draw.
+      if (local >= visBlocksOf(t, bw)) continue;
       const int32_t bx = (t.minX >> kVisBlockShift) + int32_t(local % bw);
       const int32_t by = (t.minY >> kVisBlockShift) + int32_t(local / bw);
       const int32_t x0 = imax(t.minX, bx << kVisBlockShift), x1 = imin(t.maxX, ((bx + 1) << kVisBlockShift) - 1);
@@ -104,11 +91,10 @@ void rasterVisBuffer(FrameBuffers& f) {
     Kokkos::deep_copy(Exec(), Kokkos::subview(f.blockDepth, std::make_pair(size_t(0), size_t(numBlocks))), kFarDepthBits);
   ensureCapacity(f.blockFrame, "frame.blockFrame", numBlocks);  // stale tags only make shading read clear keys
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
-  const uint32_t chunks = f.setupChunks;
   const uint32_t threads = persistentThreads();
   Kokkos::parallel_for("rast::raster::visbuffer::blocks", lightweight(Policy(0, threads)),
-                       RasterBlocks{f.tris, f.counters, f.chunkOffset, f.chunkBlocks, f.workOffset, f.blockDepth, f.blockFrame,
-                                    f.uniforms, f.vis, f.vp.width, bx, f.triCapacity, chunks, threads, f.vp.samples});
+                       RasterBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.blockFrame, f.uniforms, f.vis,
+                                    f.vp.width, bx, f.triCapacity, threads, f.vp.samples});
 }
 
 }  // namespace rast

@@ -18,7 +18,7 @@
 namespace rast {
 
 size_t FrameBuffers::bytes() const {
-  return viewBytes(uploaded) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(chunkBlocks) + viewBytes(clipCount) +
+  return viewBytes(uploaded) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(chunkBlocks) + viewBytes(setupStatus) + viewBytes(clipCount) + viewBytes(clipBlocks) +
          viewBytes(tris) + viewBytes(workOffset) + viewBytes(blockDepth) + viewBytes(blockFrame) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
@@ -185,6 +185,10 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   u.camera.zfar = float(cam.zfar);
   const glm::dmat4 view = cam.view();
   for (int k = 0; k < 16; ++k) u.camera.view.m[k] = float(glm::value_ptr(view)[k]);
+  if (frameNumber_ == ~0u) {  // tags would repeat: start again from zeroed status
+    frameNumber_ = 0;
+    frame_.setupStatus = DView<uint32_t>();
+  }
   u.frame = ++frameNumber_;
   // The upload: the uniforms, then (few draws) the draws' matrices.
   const bool hostMatrices = scene_.numDraws <= kHostMatricesMaxDraws;

@@ -295,21 +295,21 @@ struct Shade {
     // (p.blockFrames), which saves most of the frame's reads behind a model.
     const uint32_t thisFrame = p.blockFrames ? p.frame(0).frame : 0u;
     uint64_t keys[kShadeInterleave];
-    int32_t xs[kShadeInterleave], ys[kShadeInterleave];
     for (int k = 0; k < kShadeInterleave; ++k) {
       const uint32_t i = first + uint32_t(k) * kLanes;
-      ys[k] = int32_t(i / uint32_t(width));
-      xs[k] = int32_t(i - uint32_t(ys[k]) * uint32_t(width));
       bool read = i < pixels;
-      if (read && p.blockFrames)
-        read = blockFrame(uint32_t(ys[k] >> 3) * uint32_t(blocksPerRow) + uint32_t(xs[k] >> 3)) == thisFrame;
+      if (read && p.blockFrames) {
+        const uint32_t Y = i / uint32_t(width), X = i - Y * uint32_t(width);
+        read = blockFrame((Y >> 3) * uint32_t(blocksPerRow) + (X >> 3)) == thisFrame;
+      }
       keys[k] = read ? vis(i) : kClearKey;
     }
     TriFrag f;
     for (int k = 0; k < kShadeInterleave; ++k) {
       const uint32_t i = first + uint32_t(k) * kLanes;
       if (i >= pixels) break;
-      shadeSingle(int64_t(i), xs[k], ys[k], f, keys[k]);
+      const int32_t Y = int32_t(i / uint32_t(width));
+      shadeSingle(int64_t(i), int32_t(i - uint32_t(Y) * uint32_t(width)), Y, f, keys[k]);
     }
   }
 
