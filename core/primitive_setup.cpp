@@ -9,15 +9,17 @@
 // raster_common.h): each raster triangle's first (workOffset) and the total
 // (counters(kRasterWork)), so the raster needs no scan of its own.
 //
-// On a GPU, one pass (WriteChunks): one team per chunk sets its triangles up
-// into team scratch, scans their counts, learns where its chunk starts from
-// the chunks before it (a single-pass scan with decoupled look-back), and
-// copies the triangles out word by word, so that neighbouring threads write
-// neighbouring words. The copy matters: a thread storing its own 96-byte
-// triangle sends 24 scattered 4-byte stores per warp instruction to L2, which
-// made the write six times slower than setting up (0.31 vs 0.03 ms for a
-// million triangles on the H100). The one pass replaced a count pass that set
-// every triangle up a second time (8-28 us of a frame on the H100).
+// On a GPU, the write pass (WriteChunks): one team per chunk sets its
+// triangles up into team scratch, scans their counts, learns where its chunk
+// starts, and copies the triangles out word by word, so that neighbouring
+// threads write neighbouring words. The copy matters: a thread storing its own
+// 96-byte triangle sends 24 scattered 4-byte stores per warp instruction to
+// L2, which made the write six times slower than setting up (0.31 vs 0.03 ms
+// for a million triangles on the H100). Where a chunk starts: for scenes of
+// up to kSetupLookBackMaxChunks chunks, from the chunks before it (a
+// single-pass scan with decoupled look-back), in that one launch; for larger
+// ones, from a count pass first (CountChunks), whose cost the one pass saves
+// smaller scenes.
 //
 // On a host backend, where a team is one thread: a count pass (chunks'
 // totals, scanned by the last to finish), then a write pass that walks each
@@ -309,8 +311,9 @@ struct WriteChunks {
   DView<uint8_t> clipCount;
 
   static size_t scratchBytes() {
-    // Under 32 KiB: more would make the H100 switch its shared-memory
-    // carve-out between this kernel and the others (3-4 us a frame).
+    // Kept under 32 KiB: at 32.1 KiB (a second scan array) the H100's setup
+    // took 1-3 us more a frame; a switch of the shared-memory carve-out
+    // between kernels is the likely cause, not a measured one.
     return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 3 * sizeof(uint32_t) * (kSetupChunk + 1) + 64;
   }
 

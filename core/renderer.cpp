@@ -232,8 +232,9 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
   if (timer) timer->mark("vertex");
 
   Kokkos::Profiling::pushRegion("rast::setup");
-  primitiveSetup(scene_, frame_, rs.cull == CullMode::Back,
-                 lastMethod_ == RasterMethod::VisBuffer && rs.polygon == PolygonMode::Fill);
+  // The visbuffer raster's work items are numbered by the setup.
+  const bool numberBlocks = lastMethod_ == RasterMethod::VisBuffer && rs.polygon == PolygonMode::Fill;
+  primitiveSetup(scene_, frame_, rs.cull == CullMode::Back, numberBlocks);
   Kokkos::Profiling::popRegion();
   if (statsThisFrame_) rasterStatistics(frame_);
   if (timer) timer->mark("setup");
@@ -263,8 +264,7 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
   // On the CPU the binned raster can shade each tile as it finishes (stages.h):
   // the shade stage's time is then part of the raster's.
   // Keys only from the visbuffer raster, which tags the blocks it wrote.
-  sp.blockFrames = lastMethod_ == RasterMethod::VisBuffer && rs.polygon == PolygonMode::Fill && rs.msaa == 1 &&
-                   linePass.lineItems() + linePass.pointItems() == 0;
+  sp.blockFrames = numberBlocks && rs.msaa == 1 && linePass.lineItems() + linePass.pointItems() == 0;
   const bool fused = lastMethod_ == RasterMethod::Binned && rs.polygon == PolygonMode::Fill &&
                      fusedBinnedShadeUsable(frame_, sp, linePass.lineItems() + linePass.pointItems() > 0);
   if (rs.polygon != PolygonMode::Fill) {

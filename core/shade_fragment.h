@@ -77,8 +77,9 @@ struct Shade {
   // With the keys cleared for the next frame, the visbuffer's depth bounds
   // are reset too (raster_visbuffer.cpp), each by its block's first pixel.
   KOKKOS_INLINE_FUNCTION void resetBlock(int32_t X, int32_t Y) const {
-    if (clearVis && resetBlocks && ((X | Y) & 7) == 0)
-      blockDepth(uint32_t(Y >> 3) * uint32_t(blocksPerRow) + uint32_t(X >> 3)) = kFarDepthBits;
+    constexpr int32_t kMask = (1 << kVisBlockShift) - 1;
+    if (clearVis && resetBlocks && ((X | Y) & kMask) == 0)
+      blockDepth(uint32_t(Y >> kVisBlockShift) * uint32_t(blocksPerRow) + uint32_t(X >> kVisBlockShift)) = kFarDepthBits;
   }
 
   KOKKOS_INLINE_FUNCTION float eyeDepth(float d) const {
@@ -300,7 +301,7 @@ struct Shade {
       bool read = i < pixels;
       if (read && p.blockFrames) {
         const uint32_t Y = i / uint32_t(width), X = i - Y * uint32_t(width);
-        read = blockFrame((Y >> 3) * uint32_t(blocksPerRow) + (X >> 3)) == thisFrame;
+        read = blockFrame((Y >> kVisBlockShift) * uint32_t(blocksPerRow) + (X >> kVisBlockShift)) == thisFrame;
       }
       keys[k] = read ? vis(i) : kClearKey;
     }
