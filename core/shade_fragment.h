@@ -47,7 +47,8 @@ struct Shade {
   DView<MaterialGPU> materials;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;
-  DView<float> lut, encode;
+  DView<float> lut;               // sRGB decode (textures)
+  DView<uint32_t> encodePacked;   // sRGB encode, DeviceScene::srgbEncodePacked (packSrgb8Packed)
   uint32_t numDraws;
   int32_t hasUV, hasColor;
   // frame
@@ -242,7 +243,7 @@ struct Shade {
   }
 
   KOKKOS_INLINE_FUNCTION uint32_t display(float4 c) const {
-    return isRawShading(p.mode) ? packRaw8(c) : packSrgb8(c, encode);
+    return isRawShading(p.mode) ? packRaw8(c) : packSrgb8Packed(c, encodePacked);
   }
 
   // SSAO's input: view-space normal and depth of the surface at the pixel (the
@@ -289,28 +290,43 @@ struct Shade {
     const uint32_t per = kLanes * uint32_t(kShadeInterleave), pixels = uint32_t(width) * uint32_t(height);
     return int64_t((pixels + per - 1) / per * kLanes);
   }
+  // The pixels of work item w: the first found by one division, the next
+  // ones by stepping kLanes along the rows (a division per pixel was a tenth
+  // of the kernel's instructions on a plain frame).
+  struct Walk {
+    uint32_t i, X, Y;
+    KOKKOS_INLINE_FUNCTION void next(uint32_t width) {
+      i += kLanes;
+      X += kLanes;
+      while (X >= width) {  // once at most, but for frames narrower than kLanes
+        X -= width;
+        ++Y;
+      }
+    }
+  };
+  KOKKOS_INLINE_FUNCTION Walk firstPixel(const uint32_t w) const {
+    const uint32_t i = w / kLanes * kLanes * uint32_t(kShadeInterleave) + w % kLanes;
+    const uint32_t Y = i / uint32_t(width);
+    return Walk{i, i - Y * uint32_t(width), Y};
+  }
   KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
-    const uint32_t first = w / kLanes * kLanes * uint32_t(kShadeInterleave) + w % kLanes;
     const uint32_t pixels = uint32_t(width) * uint32_t(height);
     // A key in a block the raster left alone this frame is clear: not read
     // (p.blockFrames), which saves most of the frame's reads behind a model.
     const uint32_t thisFrame = p.blockFrames ? p.frame(0).frame : 0u;
     uint64_t keys[kShadeInterleave];
-    for (int k = 0; k < kShadeInterleave; ++k) {
-      const uint32_t i = first + uint32_t(k) * kLanes;
-      bool read = i < pixels;
-      if (read && p.blockFrames) {
-        const uint32_t Y = i / uint32_t(width), X = i - Y * uint32_t(width);
-        read = blockFrame((Y >> kVisBlockShift) * uint32_t(blocksPerRow) + (X >> kVisBlockShift)) == thisFrame;
-      }
-      keys[k] = read ? vis(i) : kClearKey;
+    Walk at = firstPixel(w);
+    for (int k = 0; k < kShadeInterleave; ++k, at.next(uint32_t(width))) {
+      bool read = at.i < pixels;
+      if (read && p.blockFrames)
+        read = blockFrame((at.Y >> kVisBlockShift) * uint32_t(blocksPerRow) + (at.X >> kVisBlockShift)) == thisFrame;
+      keys[k] = read ? vis(at.i) : kClearKey;
     }
     TriFrag f;
-    for (int k = 0; k < kShadeInterleave; ++k) {
-      const uint32_t i = first + uint32_t(k) * kLanes;
-      if (i >= pixels) break;
-      const int32_t Y = int32_t(i / uint32_t(width));
-      shadeSingle(int64_t(i), int32_t(i - uint32_t(Y) * uint32_t(width)), Y, f, keys[k]);
+    at = firstPixel(w);
+    for (int k = 0; k < kShadeInterleave; ++k, at.next(uint32_t(width))) {
+      if (at.i >= pixels) break;
+      shadeSingle(int64_t(at.i), int32_t(at.X), int32_t(at.Y), f, keys[k]);
     }
   }
 

@@ -326,7 +326,7 @@ struct SpanTriCache {
 };
 
 struct ShadeSpans : Shade {
-  const uint32_t* encodePacked = nullptr;  // srgbEncodePacked(), host memory (see spansOf)
+  const uint32_t* encodePacked = nullptr;  // DeviceScene::srgbEncodePacked, host memory (see spansOf)
 
   // Whether this kernel covers a frame of these settings.
   static bool usable(const ShadeParams& p, int samples, int run) {

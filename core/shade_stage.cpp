@@ -29,12 +29,11 @@ struct DepthRange {
   }
 };
 
-// The span kernel with its host-side encoder table (the host backends share
-// host memory with their kernels).
+// The span kernel with the scene's encoder table as a plain pointer (the host
+// backends share host memory with their kernels).
 shading::ShadeSpans spansOf(const Shade& k) {
-  static const std::vector<uint32_t> packed = srgbEncodePacked();
   shading::ShadeSpans s{k};
-  s.encodePacked = packed.data();
+  s.encodePacked = k.encodePacked.data();
   return s;
 }
 
@@ -124,7 +123,7 @@ Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
     Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.frame, f.vp.samples.count},
                             Kokkos::MinMax<float, Mem>(f.depthRange));
   }
-  Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncode,
+  Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncodePacked,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
           f.depth, f.primId, f.normal, f.post.hdr, f.post.geom, f.post.depth, lights, f.depthRange, f.vp.width, f.vp.samples, p,
           makeLineShade(s, f.lines), 1, 1};
