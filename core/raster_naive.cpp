@@ -8,6 +8,11 @@
 namespace rast {
 namespace {
 
+// With one sample per pixel, a triangle that wrote keys tags the 8x8 blocks
+// of its box with the frame (FrameBuffers::blockFrame), as the visbuffer raster
+// does, so that shading reads no keys elsewhere. A box may tag a block it
+// wrote nothing in: shading then reads clear keys there, nothing worse. The
+// boxes auto gives this method are at most one block's area: a few stores.
 struct NaiveRaster {
   DView<RasterTri> tris;
   DView<uint32_t> counters;
@@ -15,20 +20,32 @@ struct NaiveRaster {
   int32_t width;
   uint32_t capacity;
   SamplePattern samples;
+  DView<uint32_t> blockFrame;  // written when tagBlocks
+  DView<FrameUniforms> frame;
+  int32_t blocksPerRow, tagBlocks;
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i) const {
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     if (i >= n) return;
     const RasterTri& t = tris(i);
-    rasterRect(t, Edges(t), i, t.minX, t.maxX, t.minY, t.maxY, vis.data(), width, samples);
+    const RectResult r = rasterRect(t, Edges(t), i, t.minX, t.maxX, t.minY, t.maxY, vis.data(), width, samples);
+    if (!tagBlocks || r.covered == 0) return;
+    const uint32_t thisFrame = frame(0).frame;
+    for (int32_t by = t.minY >> kVisBlockShift; by <= t.maxY >> kVisBlockShift; ++by)
+      for (int32_t bx = t.minX >> kVisBlockShift; bx <= t.maxX >> kVisBlockShift; ++bx)
+        blockFrame(uint32_t(by) * uint32_t(blocksPerRow) + uint32_t(bx)) = thisFrame;  // every writer stores the same value
   }
 };
 
 }  // namespace
 
 void rasterNaive(FrameBuffers& f) {
+  int32_t bx = 0;
+  const bool tag = f.vp.samples.count == 1;
+  if (tag) ensureCapacity(f.blockFrame, "frame.blockFrame", visBlocks(f.vp, bx));  // stale tags only make shading read clear keys
   // One work item per triangle slot; slots past the device-side count return at once.
   Kokkos::parallel_for("rast::raster::naive", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, f.triCapacity),
-                       NaiveRaster{f.tris, f.counters, f.vis, f.vp.width, f.triCapacity, f.vp.samples});
+                       NaiveRaster{f.tris, f.counters, f.vis, f.vp.width, f.triCapacity, f.vp.samples, f.blockFrame,
+                                   f.uniforms, bx, tag ? 1 : 0});
 }
 
 void clearVisibility(FrameBuffers& f) {

@@ -263,8 +263,10 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
   const LinePass linePass = makeLinePass(scene_, rs);
   // On the CPU the binned raster can shade each tile as it finishes (stages.h):
   // the shade stage's time is then part of the raster's.
-  // Keys only from the visbuffer raster, which tags the blocks it wrote.
-  sp.blockFrames = numberBlocks && rs.msaa == 1 && linePass.lineItems() + linePass.pointItems() == 0;
+  // Keys only from the visbuffer or naive raster, which tag the blocks they wrote.
+  const bool tagsBlocks = rs.polygon == PolygonMode::Fill &&
+                          (lastMethod_ == RasterMethod::VisBuffer || lastMethod_ == RasterMethod::Naive);
+  sp.blockFrames = tagsBlocks && rs.msaa == 1 && linePass.lineItems() + linePass.pointItems() == 0;
   const bool fused = lastMethod_ == RasterMethod::Binned && rs.polygon == PolygonMode::Fill &&
                      fusedBinnedShadeUsable(frame_, sp, linePass.lineItems() + linePass.pointItems() > 0);
   if (rs.polygon != PolygonMode::Fill) {

@@ -74,7 +74,7 @@ struct ShadeParams {
   int32_t floatOut, wantGeom;
   float4 backgroundFilm;  // the background as the film holds it
   int32_t shadeRun;       // pixels per shading work item along a row; 0: the backend's kShadeRun
-  // Only the visbuffer raster wrote keys this frame, one sample per pixel:
+  // Only the visbuffer or naive raster wrote keys this frame, one sample per pixel:
   // an 8x8 block whose FrameBuffers::blockFrame is not this frame's holds
   // only clear keys, and the GPU's shading skips reading them.
   int32_t blockFrames;
