@@ -44,8 +44,9 @@ struct DeviceScene {
 };
 
 // Largest i with starts(i) <= key; starts is ascending with starts(0) == 0.
-KOKKOS_INLINE_FUNCTION uint32_t findRange(const DView<uint32_t>& starts, uint32_t n, uint32_t key) {
-  uint32_t lo = 0, hi = n;  // invariant: starts(lo) <= key < starts(hi) (hi == n: +inf)
+// lo: a range known to start at or before key (0 when nothing is known).
+KOKKOS_INLINE_FUNCTION uint32_t findRange(const DView<uint32_t>& starts, uint32_t n, uint32_t key, uint32_t lo = 0) {
+  uint32_t hi = n;  // invariant: starts(lo) <= key < starts(hi) (hi == n: +inf)
   while (hi - lo > 1) {
     const uint32_t mid = lo + (hi - lo) / 2;
     if (starts(mid) <= key) lo = mid; else hi = mid;

@@ -49,8 +49,9 @@ struct RasterBlocks {
     const uint32_t total = counters(kRasterWork);
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     const uint32_t thisFrame = frame(0).frame;
+    uint32_t i = 0;  // a thread's items come in order: its last triangle bounds the search
     for (uint32_t w = thread; w < total; w += stride) {
-      const uint32_t i = findRange(workOffset, n, w);
+      i = findRange(workOffset, n, w, i);
       const RasterTri& t = tris(i);
       uint32_t bw;
       const uint32_t local = w - workOffset(i);
