@@ -62,7 +62,7 @@ constexpr uint32_t kSetupLookBackMaxChunks = 24;
 // Shading: pixels per work item along a row. A CPU thread keeps the last
 // triangle's lookups (draw, indices, vertex attributes, material) across its
 // run, so neighbouring pixels of one triangle pay for them once. A GPU thread
-// shades kShadeInterleave pixels 32 apart instead (coalesced across a warp),
+// shades kShadeInterleave pixels one above the other instead (a warp, a tile 32 wide: coalesced),
 // loading their keys together: on the H100, one pixel per thread left the
 // empty 1080p frame's shading at 0.028 ms, one load latency per wave of
 // resident threads; runs of 4 along a row were slower still (0.044 ms), their

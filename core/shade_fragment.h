@@ -277,57 +277,51 @@ struct Shade {
     for (int32_t X = x0; X < x1; ++X) shadePixel(row + X, X, Y, f);
   }
 
-  // GPUs, one sample per pixel: work item w shades kShadeInterleave pixels 32
-  // apart, so that each of its loads and stores is one coalesced access of
-  // the 32 neighbouring work items (a warp). It loads all its keys before
-  // shading any: the kernel is bound by those loads, and its register cap
+  // GPUs, one sample per pixel: a warp of 32 work items shades a tile 32
+  // pixels wide and kShadeInterleave rows high, each work item a column of it,
+  // so that each of its loads and stores is one coalesced access of the warp
+  // (a row of 32 pixels) and its pixels, one above the other, mostly share a
+  // triangle (its lookups, TriFrag, kept from pixel to pixel; pixels 32 apart
+  // along a row rarely shared one). It loads all its keys before shading any:
+  // the kernel is bound by those loads, and its register cap
   // (kShadeLaunchBounds) leaves too few warps to hide one at a time.
   static constexpr uint32_t kLanes = 32;
 
+  uint32_t tileColumns() const { return (uint32_t(width) + kLanes - 1) / kLanes; }
   // Work items of a launch, for either layout.
   int64_t workItems() const {
     if (!interleaved) return int64_t(runsPerRow) * height;
-    const uint32_t per = kLanes * uint32_t(kShadeInterleave), pixels = uint32_t(width) * uint32_t(height);
-    return int64_t((pixels + per - 1) / per * kLanes);
+    const uint32_t tileRows = (uint32_t(height) + uint32_t(kShadeInterleave) - 1) / uint32_t(kShadeInterleave);
+    return int64_t(tileColumns()) * tileRows * kLanes;
   }
-  // The pixels of work item w: the first found by one division, the next
-  // ones by stepping kLanes along the rows (a division per pixel was a tenth
-  // of the kernel's instructions on a plain frame).
   struct Walk {
     uint32_t i, X, Y;
-    KOKKOS_INLINE_FUNCTION void next(uint32_t width) {
-      i += kLanes;
-      X += kLanes;
-      while (X >= width) {  // once at most, but for frames narrower than kLanes
-        X -= width;
-        ++Y;
-      }
-    }
   };
   KOKKOS_INLINE_FUNCTION Walk firstPixel(const uint32_t w) const {
-    const uint32_t i = w / kLanes * kLanes * uint32_t(kShadeInterleave) + w % kLanes;
-    const uint32_t Y = i / uint32_t(width);
-    return Walk{i, i - Y * uint32_t(width), Y};
+    const uint32_t cols = (uint32_t(width) + kLanes - 1) / kLanes;
+    const uint32_t tile = w / kLanes, ty = tile / cols;
+    const uint32_t X = (tile - ty * cols) * kLanes + w % kLanes, Y = ty * uint32_t(kShadeInterleave);
+    return Walk{Y * uint32_t(width) + X, X, Y};
   }
   KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
-    const uint32_t pixels = uint32_t(width) * uint32_t(height);
     // A key in a block the raster left alone this frame is clear: not read
     // (p.blockFrames), which saves most of the frame's reads behind a model.
     const uint32_t thisFrame = p.blockFrames ? p.frame(0).frame : 0u;
+    const Walk at = firstPixel(w);
+    if (at.X >= uint32_t(width)) return;  // right of the frame's last column
+    const uint32_t rows = uint32_t(height) - at.Y < uint32_t(kShadeInterleave) ? uint32_t(height) - at.Y
+                                                                               : uint32_t(kShadeInterleave);
     uint64_t keys[kShadeInterleave];
-    Walk at = firstPixel(w);
-    for (int k = 0; k < kShadeInterleave; ++k, at.next(uint32_t(width))) {
-      bool read = at.i < pixels;
+    for (uint32_t k = 0; k < uint32_t(kShadeInterleave); ++k) {
+      const uint32_t Y = at.Y + k;
+      bool read = k < rows;
       if (read && p.blockFrames)
-        read = blockFrame((at.Y >> kVisBlockShift) * uint32_t(blocksPerRow) + (at.X >> kVisBlockShift)) == thisFrame;
-      keys[k] = read ? vis(at.i) : kClearKey;
+        read = blockFrame((Y >> kVisBlockShift) * uint32_t(blocksPerRow) + (at.X >> kVisBlockShift)) == thisFrame;
+      keys[k] = read ? vis(at.i + k * uint32_t(width)) : kClearKey;
     }
     TriFrag f;
-    at = firstPixel(w);
-    for (int k = 0; k < kShadeInterleave; ++k, at.next(uint32_t(width))) {
-      if (at.i >= pixels) break;
-      shadeSingle(int64_t(at.i), int32_t(at.X), int32_t(at.Y), f, keys[k]);
-    }
+    for (uint32_t k = 0; k < rows; ++k)
+      shadeSingle(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[k]);
   }
 
   KOKKOS_INLINE_FUNCTION void use(uint32_t index, TriFrag& f) const {
