@@ -19,7 +19,8 @@ double srgbDecode(double encoded);  // [0,1] encoded -> linear
 double srgbEncode(double linear);   // linear -> [0,1] encoded (clamped)
 uint32_t srgbEncodeByte(double linear);  // rounded to the nearest byte
 
-// Tables uploaded with the scene (DeviceScene::srgbToLinear / srgbEncode).
+// Tables: the decode table is uploaded with the scene (DeviceScene::srgbToLinear),
+// the encoder's as srgbEncodePacked (DeviceScene::srgbEncodePacked).
 std::vector<float> srgbDecodeTable();      // 256 entries: byte -> linear
 // kSrgbEncodeTableSize entries: 256 decision thresholds (byte b encodes
 // linear values in [t(b), t(b+1))), +inf at 256, then kSrgbBuckets starting

@@ -78,7 +78,6 @@ DeviceScene DeviceScene::upload(const Scene& s) {
 
   if (usesTexture) d.uploadTextures(s.textures, false);
   d.srgbToLinear = uploadVec("scene.srgbToLinear", srgbDecodeTable());
-  d.srgbEncode = uploadVec("scene.srgbEncode", srgbEncodeThresholds());
   d.srgbEncodePacked = uploadVec("scene.srgbEncodePacked", rast::srgbEncodePacked());
   return d;
 }
@@ -139,7 +138,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(materials) +
-         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncode) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
+         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
          viewBytes(points);
 }
 

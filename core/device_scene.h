@@ -21,8 +21,7 @@ struct DeviceScene {
   DView<TextureGPU> textures;
   DView<uint32_t> texels;  // all textures, sRGB RGBA8
   DView<float> srgbToLinear;  // 256-entry decode table
-  DView<float> srgbEncode;    // 256 thresholds (byte b encodes linear values in [t(b), t(b+1))), then encodeSrgb8's buckets
-  DView<uint32_t> srgbEncodePacked;  // the same as one entry per bucket (srgbEncodePacked(), packSrgb8Packed)
+  DView<uint32_t> srgbEncodePacked;  // sRGB encoder, one entry per bucket (srgbEncodePacked(), packSrgb8Packed)
 
   // Drawn line segments, then drawn points, in scene traversal order
   // (primitive ids after the triangles'; docs/points-lines.md).

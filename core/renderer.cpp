@@ -312,7 +312,7 @@ void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* 
   v.tanX = float(1.0 / proj[0][0]);
   v.tanY = float(1.0 / proj[1][1]);
   v.ssaoRadius = ssaoRadiusFor(rs.post, glm::length(cam.eye - cam.target));
-  runPostChain(frame_.post, v, rs.post, frame_.color, scene_.srgbEncode, isRawShading(rs.shading), timer);
+  runPostChain(frame_.post, v, rs.post, frame_.color, scene_.srgbEncodePacked, isRawShading(rs.shading), timer);
 }
 
 bool Renderer::lastFrameFit(FrameStats* stats) {

@@ -6,9 +6,9 @@
 
 namespace rast {
 
-void postEncode(const DView<float4>& hdr, int64_t n, const DView<uint32_t>& color, const DView<float>& table, bool raw) {
+void postEncode(const DView<float4>& hdr, int64_t n, const DView<uint32_t>& color, const DView<uint32_t>& packed, bool raw) {
   Kokkos::parallel_for("rast::post::encode", Range(0, n), KOKKOS_LAMBDA(const int64_t i) {
-    color(i) = raw ? packRaw8(hdr(i)) : packSrgb8(hdr(i), table);
+    color(i) = raw ? packRaw8(hdr(i)) : packSrgb8Packed(hdr(i), packed);
   });
 }
 
