@@ -311,14 +311,14 @@ struct Shade {
     if (at.X >= uint32_t(width)) return;  // right of the frame's last column
     const uint32_t rows = uint32_t(height) - at.Y < uint32_t(kShadeInterleave) ? uint32_t(height) - at.Y
                                                                                : uint32_t(kShadeInterleave);
+    // The column lies in one 8x8 block: one tag for its pixels.
+    static_assert((1 << kVisBlockShift) % kShadeInterleave == 0, "a work item's column must not cross a block row");
+    const bool tagged =
+        !p.blockFrames ||
+        blockFrame((at.Y >> kVisBlockShift) * uint32_t(blocksPerRow) + (at.X >> kVisBlockShift)) == thisFrame;
     uint64_t keys[kShadeInterleave];
-    for (uint32_t k = 0; k < uint32_t(kShadeInterleave); ++k) {
-      const uint32_t Y = at.Y + k;
-      bool read = k < rows;
-      if (read && p.blockFrames)
-        read = blockFrame((Y >> kVisBlockShift) * uint32_t(blocksPerRow) + (at.X >> kVisBlockShift)) == thisFrame;
-      keys[k] = read ? vis(at.i + k * uint32_t(width)) : kClearKey;
-    }
+    for (uint32_t k = 0; k < uint32_t(kShadeInterleave); ++k)
+      keys[k] = tagged && k < rows ? vis(at.i + k * uint32_t(width)) : kClearKey;
     TriFrag f;
     for (uint32_t k = 0; k < rows; ++k)
       shadeSingle(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[k]);
