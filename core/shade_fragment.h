@@ -287,27 +287,27 @@ struct Shade {
   // (kShadeLaunchBounds) leaves too few warps to hide one at a time.
   static constexpr uint32_t kLanes = 32;
 
-  uint32_t tileColumns() const { return (uint32_t(width) + kLanes - 1) / kLanes; }
+  KOKKOS_INLINE_FUNCTION uint32_t tileColumns() const { return (uint32_t(width) + kLanes - 1) / kLanes; }
   // Work items of a launch, for either layout.
   int64_t workItems() const {
     if (!interleaved) return int64_t(runsPerRow) * height;
     const uint32_t tileRows = (uint32_t(height) + uint32_t(kShadeInterleave) - 1) / uint32_t(kShadeInterleave);
     return int64_t(tileColumns()) * tileRows * kLanes;
   }
-  struct Walk {
+  // Work item w's column: its top pixel (index i, at X, Y).
+  struct Column {
     uint32_t i, X, Y;
   };
-  KOKKOS_INLINE_FUNCTION Walk firstPixel(const uint32_t w) const {
-    const uint32_t cols = (uint32_t(width) + kLanes - 1) / kLanes;
-    const uint32_t tile = w / kLanes, ty = tile / cols;
+  KOKKOS_INLINE_FUNCTION Column column(const uint32_t w) const {
+    const uint32_t cols = tileColumns(), tile = w / kLanes, ty = tile / cols;
     const uint32_t X = (tile - ty * cols) * kLanes + w % kLanes, Y = ty * uint32_t(kShadeInterleave);
-    return Walk{Y * uint32_t(width) + X, X, Y};
+    return Column{Y * uint32_t(width) + X, X, Y};
   }
   KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
     // A key in a block the raster left alone this frame is clear: not read
     // (p.blockFrames), which saves most of the frame's reads behind a model.
     const uint32_t thisFrame = p.blockFrames ? p.frame(0).frame : 0u;
-    const Walk at = firstPixel(w);
+    const Column at = column(w);
     if (at.X >= uint32_t(width)) return;  // right of the frame's last column
     const uint32_t rows = uint32_t(height) - at.Y < uint32_t(kShadeInterleave) ? uint32_t(height) - at.Y
                                                                                : uint32_t(kShadeInterleave);

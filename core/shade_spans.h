@@ -326,8 +326,6 @@ struct SpanTriCache {
 };
 
 struct ShadeSpans : Shade {
-  const uint32_t* encodePacked = nullptr;  // DeviceScene::srgbEncodePacked, host memory (see spansOf)
-
   // Whether this kernel covers a frame of these settings.
   static bool usable(const ShadeParams& p, int samples, int run) {
     return run > 1 && run <= kMaxSpanRun && samples == 1 && p.mode == ShadingMode::Lambert &&
@@ -626,8 +624,9 @@ struct ShadeSpans : Shade {
     if (!p.floatOut) {
       uint32_t px[kMaxSpanRun];
       uint32_t* dst = lanes ? px : color.data() + out;
-      if (wide) packSpanWide(mb, m, br, bg, bb, ba, diffuse, encodePacked, dst);
-      else packSpan(mb, m, br, bg, bb, ba, diffuse, encodePacked, dst);
+      // The host backends share host memory with their kernels: a plain pointer.
+      if (wide) packSpanWide(mb, m, br, bg, bb, ba, diffuse, encodePacked.data(), dst);
+      else packSpan(mb, m, br, bg, bb, ba, diffuse, encodePacked.data(), dst);
       if (lanes)
         for (int32_t j = 0; j < m; ++j) color(lanes[j]) = px[j];
       return;

@@ -29,14 +29,6 @@ struct DepthRange {
   }
 };
 
-// The span kernel with the scene's encoder table as a plain pointer (the host
-// backends share host memory with their kernels).
-shading::ShadeSpans spansOf(const Shade& k) {
-  shading::ShadeSpans s{k};
-  s.encodePacked = k.encodePacked.data();
-  return s;
-}
-
 // The span kernel (shade_spans.h) is compiled for the host backends only: a
 // GPU shades a few pixels per thread and never launches it. Returns whether
 // the kernel clears the visibility buffer behind it (only the per-pixel one:
@@ -46,7 +38,7 @@ bool launchShade(Shade k, int samples, const Range& items) {
   if constexpr (kWithSpans) {
     using Spans = std::conditional_t<kWithSpans, shading::ShadeSpans, Shade>;  // dependent: not built for GPUs
     if (Spans::usable(k.p, samples, k.run)) {
-      Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{spansOf(k)});
+      Kokkos::parallel_for("rast::shade::spans", lightweight(items), Spans{k});
       return false;
     }
   }
@@ -84,7 +76,7 @@ bool launchFused(const Shade& k, FrameBuffers& f) {
     using Policy = Kokkos::RangePolicy<Exec, Kokkos::Schedule<Kokkos::Dynamic>, Kokkos::IndexType<uint32_t>>;
     Kokkos::parallel_for("rast::raster::binned::fine_shade", Policy(0, g.numTiles()),
                          Fine{f.tris, f.tileStart, f.work, f.counters, g, f.vp.width, f.vp.height, f.workCapacity,
-                              ShadeSink{spansOf(k)}});
+                              ShadeSink{shading::ShadeSpans{k}}});
     return true;
   }
   return false;
