@@ -59,6 +59,12 @@ constexpr uint32_t kAutoStatsEvery = 8;
 // 30 us at 475 (engine) and 320 us at 3,900 (tiny).
 constexpr uint32_t kSetupLookBackMaxChunks = 24;
 
+// Scenes of at most this many draws have their model-view-projection
+// matrices computed on the host and uploaded with the camera, in the same
+// copy: a frame then has one launch fewer (the draw_matrices kernel), about
+// 3 us on the H100, for at most 16 KiB more to copy (DeviceScene::hostMvps).
+constexpr uint32_t kHostMatricesMaxDraws = 256;
+
 // Shading: pixels per work item along a row. A CPU thread keeps the last
 // triangle's lookups (draw, indices, vertex attributes, material) across its
 // run, so neighbouring pixels of one triangle pay for them once. A GPU thread

@@ -65,6 +65,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     if (tri >= 0xffffffffull || vert >= 0xffffffffull) throw Error("scene too large: more than 2^32 drawn triangles or vertices");
   }
   d.numDraws = uint32_t(draws.size());
+  if (!d.hostMvps()) d.hostModels = std::vector<mat4d>();  // the vertex stage computes the MVPs
   d.numTris = uint32_t(tri);
   d.numVerts = uint32_t(vert);
   d.draws = uploadVec("scene.draws", draws);

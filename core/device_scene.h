@@ -29,7 +29,10 @@ struct DeviceScene {
   uint32_t numLines = 0, numPoints = 0;
 
   uint32_t numDraws = 0, numTris = 0, numVerts = 0;  // drawn counts
-  std::vector<mat4d> hostModels;  // draws' model matrices, for the host-computed MVPs (kHostMatricesMaxDraws)
+  std::vector<mat4d> hostModels;  // draws' model matrices, kept only when hostMvps()
+  // Whether the host computes the draws' MVPs and uploads them with the
+  // camera (Renderer::enqueue), or the vertex stage computes them.
+  bool hostMvps() const { return numDraws <= kHostMatricesMaxDraws; }
   bool hasUV = false, hasColor = false, hasTextures = false;
 
   static DeviceScene upload(const Scene& scene);

@@ -35,11 +35,6 @@ struct FrameUniforms {
   uint32_t frame;  // counts the renderer's frames (from 1): tags the blocks a frame wrote (RasterBlocks)
 };
 
-// Scenes of at most this many draws have their model-view-projection
-// matrices computed on the host and uploaded with the camera, in the same
-// copy: a frame then has one launch fewer (the draw_matrices kernel), about
-// 3 us on the H100, for at most 16 KiB more to copy.
-constexpr uint32_t kHostMatricesMaxDraws = 256;
 // The upload's layout, in mat4f slots: FrameUniforms, then one MVP per draw.
 constexpr size_t kUniformSlots = (sizeof(FrameUniforms) + sizeof(mat4f) - 1) / sizeof(mat4f);
 
@@ -60,7 +55,7 @@ struct FrameBuffers {
   DView<RasterTri> tris;     // raster triangles
   DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work (visbuffer: its first item)
   DView<uint32_t> blockDepth;  // visbuffer method: per 8x8 block, a bound on its pixels' depth
-  DView<uint32_t> blockFrame;  // visbuffer method: per 8x8 block, the last frame (FrameUniforms::frame) that wrote a key in it
+  DView<uint32_t> blockFrame;  // visbuffer and naive methods: per 8x8 block, the last frame (FrameUniforms::frame) that wrote a key in it
   DView<uint32_t> work;        // method-specific work list (bin entries)
   DView<uint32_t> tileStart;   // binned method: first list entry of each tile
   DView<uint32_t> counters;

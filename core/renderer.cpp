@@ -191,7 +191,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   }
   u.frame = ++frameNumber_;
   // The upload: the uniforms, then (few draws) the draws' matrices.
-  const bool hostMatrices = scene_.numDraws <= kHostMatricesMaxDraws;
+  const bool hostMatrices = scene_.hostMvps();
   upload_.assign(kUniformSlots + (hostMatrices ? scene_.numDraws : 0), mat4f{});
   std::memcpy(upload_.data(), &u, sizeof u);
   if (hostMatrices)
@@ -264,8 +264,7 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
   // On the CPU the binned raster can shade each tile as it finishes (stages.h):
   // the shade stage's time is then part of the raster's.
   // Keys only from the visbuffer or naive raster, which tag the blocks they wrote.
-  const bool tagsBlocks = rs.polygon == PolygonMode::Fill &&
-                          (lastMethod_ == RasterMethod::VisBuffer || lastMethod_ == RasterMethod::Naive);
+  const bool tagsBlocks = numberBlocks || (lastMethod_ == RasterMethod::Naive && rs.polygon == PolygonMode::Fill);
   sp.blockFrames = tagsBlocks && rs.msaa == 1 && linePass.lineItems() + linePass.pointItems() == 0;
   const bool fused = lastMethod_ == RasterMethod::Binned && rs.polygon == PolygonMode::Fill &&
                      fusedBinnedShadeUsable(frame_, sp, linePass.lineItems() + linePass.pointItems() > 0);

@@ -106,7 +106,7 @@ void launchTransform(const TransformVertices<kWorld>& t, uint32_t numVerts) {
 }  // namespace
 
 void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld) {
-  if (s.numDraws > kHostMatricesMaxDraws)  // else uploaded with the camera (Renderer::enqueue)
+  if (!s.hostMvps())  // else uploaded with the camera (Renderer::enqueue)
     Kokkos::parallel_for("rast::vertex::draw_matrices",
                          lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, s.numDraws)),
                          DrawMatrices{s.draws, f.mvp, f.uniforms});
