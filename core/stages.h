@@ -41,6 +41,13 @@ KOKKOS_INLINE_FUNCTION mat4f drawMvp(const mat4d& vp, const mat4d& m) {
 // f.chunkBlocks, f.counters(kRasterWork); primitive_setup.cpp).
 void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks);
 
+// Tests: from now on a host backend sets up primitives as a GPU does
+// (primitive_setup.cpp's WriteChunks: a team per chunk, here of teamSize
+// threads; the look-back for few chunks, a count pass for more), so that the
+// GPU's setup runs, and can hang or fail, on the CPU too; 0 restores the
+// host's own. Images must not change (tests/test_cpu_paths.cpp). GPUs ignore it.
+void setGpuSetupOnHostForTests(int teamSize);
+
 void clearVisibility(FrameBuffers& f);
 
 // Raster methods: each reads f.tris / f.counters(kRasterTris) and min-combines

@@ -12,12 +12,15 @@
 //   and in spans;
 // * the host fine raster of the binned method matches the other methods on
 //   ids and depth bit for bit (also covered by the stability suite), here on
-//   textured models seen whole.
+//   textured models seen whole;
+// * the GPU's primitive setup (one team per chunk, the look-back between
+//   chunks), run on the host, gives the host setup's images.
 #include <catch2/catch.hpp>
 
 #include "core/color.h"
 #include "core/device_scene.h"
 #include "core/shade_spans.h"
+#include "core/stages.h"
 #include "core/texture_sampling.h"
 #include "core/gltf_loader.h"
 #include "models/procedural.h"
@@ -321,3 +324,60 @@ TEST_CASE("textured frames with texture coordinates outside 0..1 shade the same 
     }
 }
 
+
+TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images", "[cpu-paths]") {
+  // A scene of one chunk of 256 triangles, of a few (the look-back: each
+  // team waits for the totals of the chunks before it), of many (a count
+  // pass first), and scenes with clipped triangles; teams of one thread
+  // (several teams wait on each other at once) and of several (one window
+  // of the look-back read by several threads).
+  struct Restore {
+    ~Restore() { setGpuSetupOnHostForTests(0); }
+  } restore;
+  struct Case {
+    std::string name;
+    Scene scene;
+    Camera cam;
+  };
+  std::vector<Case> cases;
+  for (const char* spec : {"builtin:default", "builtin:tiny?n=4000", "builtin:tiny?n=20000", "builtin:nearplane",
+                           "builtin:bigtri"}) {
+    Scene s = builtinScene(spec);
+    const Camera cam = defaultCamera(s);
+    cases.push_back({spec, std::move(s), cam});
+  }
+  REQUIRE(cases[1].scene.triangleCount() > 2 * 256);  // a few chunks
+  REQUIRE(cases[1].scene.triangleCount() <= kSetupLookBackMaxChunks * 256);
+  REQUIRE(cases[2].scene.triangleCount() > kSetupLookBackMaxChunks * 256);  // many
+  const std::string sh = sharedDir();
+  if (!sh.empty() && fileExists(sh + "/models/cow.glb")) {  // a few chunks, some clipped: the eye inside
+    Scene cow = loadGltf(sh + "/models/cow.glb");
+    Camera cam = autoFrame(cow);
+    cam.eye = cam.target + (cam.eye - cam.target) * 0.02;
+    cases.push_back({"cow, eye inside", std::move(cow), cam});
+  }
+  const int most = std::min(4, int(Exec().concurrency()));
+  for (const Case& c : cases) {
+    for (RasterMethod m : {RasterMethod::VisBuffer, RasterMethod::Binned}) {
+      RenderSettings rs;
+      rs.width = 320;
+      rs.height = 180;
+      rs.raster = m;
+      setGpuSetupOnHostForTests(0);
+      const Frame ref = renderFrame(c.scene, c.cam, rs);
+      size_t covered = 0;
+      for (uint32_t id : ref.ids) covered += id != 0;
+      CHECK(covered > 0);
+      for (int team : {1, most}) {
+        INFO(c.name << ", " << toString(m) << ", teams of " << team);
+        setGpuSetupOnHostForTests(team);
+        const Frame f = renderFrame(c.scene, c.cam, rs);
+        CHECK(f.stats.rasterTris == ref.stats.rasterTris);
+        CHECK(f.stats.rasterWork == ref.stats.rasterWork);
+        REQUIRE(f.ids == ref.ids);
+        REQUIRE(f.depth == ref.depth);
+        CHECK(f.color == ref.color);
+      }
+    }
+  }
+}
