@@ -113,7 +113,7 @@ constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces wr
 // visbuffer's work items of the raster triangles (with clipCounts, a clipped
 // triangle's come from clipBlocks, the count pass's).
 template <bool kDepth>
-KOKKOS_INLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped,
+KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped,
                                          const uint8_t* clipCounts, uint32_t* blocks = nullptr,
                                          const uint32_t* clipBlocks = nullptr) {
   uint32_t vi[3];
@@ -284,17 +284,13 @@ static_assert(sizeof(RasterTri) % sizeof(Quad) == 0, "RasterTri is copied in 16-
 // disjoint shared-memory banks (at six pieces, two would share).
 constexpr uint32_t kStageStride = kTriQuads + 1;
 
-// Chunk status for the write pass's look-back, kStatusWords 64-bit words per
-// chunk: its raster triangles and visbuffer items alone (aggregate), then
-// through the chunk (inclusive). A word holds the frame number
-// (FrameUniforms::frame) it was published in above its 32-bit value, so that
-// one load reads a value and whether it is this frame's (no fence between a
-// flag and its value), and nothing is reset between frames; the buffer starts
-// zeroed and frames count from 1.
-constexpr uint32_t kStatusWords = 4;
-enum : uint32_t { kAggTris = 0, kAggItems, kIncTris, kIncItems };
-
-KOKKOS_INLINE_FUNCTION uint64_t statusWord(uint32_t tag, uint32_t value) { return uint64_t(tag) << 32 | value; }
+// Chunk status for the write pass's look-back, kStatusWords per chunk: a flag
+// and two totals (raster triangles, visbuffer items) for the chunk alone
+// (aggregate), then the same through the chunk (inclusive). A flag holds the
+// frame number (FrameUniforms::frame) it was published in, so nothing is
+// reset between frames; the buffer starts zeroed and frames count from 1.
+constexpr uint32_t kStatusWords = 8;
+enum : uint32_t { kAggFlag = 0, kAggTris, kAggItems, kIncFlag = 4, kIncTris, kIncItems };
 
 // The GPU's setup in one pass (Merrill and Garland's single-pass scan with
 // decoupled look-back): each team takes the next chunk by ticket, sets up its
@@ -303,8 +299,7 @@ KOKKOS_INLINE_FUNCTION uint64_t statusWord(uint32_t tag, uint32_t value) { retur
 // (they are running, and never wait for later ones, so every wait ends).
 struct WriteChunks {
   SetupCommon c;
-  DView<uint64_t> status;
-  DView<uint32_t> counters, workOffset;
+  DView<uint32_t> status, counters, workOffset;
   DView<FrameUniforms> frame;
   DView<RasterTri> tris;
   uint32_t capacity, numTris, chunks;
@@ -322,87 +317,48 @@ struct WriteChunks {
     return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 3 * sizeof(uint32_t) * (kSetupChunk + 1) + 64;
   }
 
-  // By the whole team: publish this chunk's totals, add up those of the
-  // chunks before it, and publish the inclusive totals; the exclusive ones
-  // are returned to every thread. The team reads a window of predecessors at
-  // once, one per thread, back to the nearest that has published its
-  // inclusive totals (the window before, if none has). A single thread
-  // walking back one chunk at a time waited a memory round trip per chunk
-  // (cow's setup, 23 chunks, took 22 us that way and 19 us this way on the
-  // H100).
-  KOKKOS_INLINE_FUNCTION void lookBack(const TeamMember& m, uint32_t chunk, uint32_t tot, uint32_t items,
-                                       uint32_t& baseTris, uint32_t& baseItems) const {
+  // One thread: publish this chunk's totals, add up the chunks before it, and
+  // publish the inclusive totals. Returns the exclusive ones.
+  KOKKOS_INLINE_FUNCTION void lookBack(uint32_t chunk, uint32_t tot, uint32_t items, uint32_t& baseTris,
+                                       uint32_t& baseItems) const {
     baseTris = 0;
     baseItems = 0;
     if (chunks == 1) {  // nobody looks back at it
-      Kokkos::single(Kokkos::PerTeam(m), [&]() {
-        counters(kRasterTris) = tot;
-        if (blocks) counters(kRasterWork) = items;
-      });
+      counters(kRasterTris) = tot;
+      if (blocks) counters(kRasterWork) = items;
       return;
     }
     const uint32_t tag = frame(0).frame;
-    volatile uint64_t* st = status.data();
-    // Every chunk's aggregate, chunk 0's too: a reader waits for
-    // aggregates only.
-    Kokkos::single(Kokkos::PerTeam(m), [&]() {
-      st[chunk * kStatusWords + kAggTris] = statusWord(tag, tot);
-      st[chunk * kStatusWords + kAggItems] = statusWord(tag, items);
-    });
+    volatile uint32_t* st = status.data();
     if (chunk > 0) {
-      static_assert(kTeamSize <= 256, "a look-back window's packed totals must not carry");
-      const uint32_t window = uint32_t(m.team_size());
-      for (uint32_t hi = chunk; hi > 0;) {  // predecessors below hi are still to add
-        const uint32_t lo = hi > window ? hi - window : 0u;
-        // The nearest predecessor in [lo, hi) with its inclusive totals
-        // (lo - 1 if none), once every one in it has its aggregate (a
-        // chunk publishes that first).
-        int64_t nearest = 0;
-        Kokkos::parallel_reduce(
-            Kokkos::TeamThreadRange(m, hi - lo),
-            [&](const uint32_t j, int64_t& best) {
-              const uint32_t p = hi - 1 - j;
-              while (uint32_t(st[p * kStatusWords + kAggItems] >> 32) != tag ||
-                     uint32_t(st[p * kStatusWords + kAggTris] >> 32) != tag) {
-              }
-              const bool inc = uint32_t(st[p * kStatusWords + kIncItems] >> 32) == tag &&
-                               uint32_t(st[p * kStatusWords + kIncTris] >> 32) == tag;
-              if (inc && int64_t(p) > best) best = p;
-            },
-            Kokkos::Max<int64_t>(nearest));
-        if (nearest < int64_t(lo)) nearest = int64_t(lo) - 1;
-        // Aggregates above the nearest, and its inclusive totals.
-        const uint32_t from = uint32_t(nearest + 1);
-        uint64_t sum = 0;
-        Kokkos::parallel_reduce(
-            Kokkos::TeamThreadRange(m, hi - from),
-            [&](const uint32_t j, uint64_t& acc) {
-              const uint32_t p = from + j;
-              acc += uint64_t(uint32_t(st[p * kStatusWords + kAggTris])) << 40 |
-                     uint32_t(st[p * kStatusWords + kAggItems]);
-            },
-            sum);
-        // Packed: raster triangles above bit 40, items below. A window of at
-        // most 256 chunks (kTeamSize) holds fewer than 2^40 items and 2^20
-        // raster triangles: no carry. Totals wrap at 2^32 like the counters.
-        baseTris += uint32_t(sum >> 40);
-        baseItems += uint32_t(sum);
-        if (nearest >= int64_t(lo)) {
-          baseTris += uint32_t(st[nearest * kStatusWords + kIncTris]);
-          baseItems += uint32_t(st[nearest * kStatusWords + kIncItems]);
+      st[chunk * kStatusWords + kAggTris] = tot;
+      st[chunk * kStatusWords + kAggItems] = items;
+      Kokkos::memory_fence();
+      st[chunk * kStatusWords + kAggFlag] = tag;
+      for (uint32_t p = chunk - 1;;) {
+        volatile uint32_t* q = st + p * kStatusWords;
+        if (q[kIncFlag] == tag) {
+          Kokkos::memory_fence();
+          baseTris += q[kIncTris];
+          baseItems += q[kIncItems];
           break;
         }
-        hi = lo;
+        if (q[kAggFlag] == tag) {
+          Kokkos::memory_fence();
+          baseTris += q[kAggTris];
+          baseItems += q[kAggItems];
+          --p;  // chunk 0 publishes its inclusive totals at once: p never passes it
+        }
       }
     }
-    Kokkos::single(Kokkos::PerTeam(m), [&]() {
-      st[chunk * kStatusWords + kIncTris] = statusWord(tag, baseTris + tot);
-      st[chunk * kStatusWords + kIncItems] = statusWord(tag, baseItems + items);
-      if (chunk + 1 == chunks) {
-        counters(kRasterTris) = baseTris + tot;
-        if (blocks) counters(kRasterWork) = baseItems + items;
-      }
-    });
+    st[chunk * kStatusWords + kIncTris] = baseTris + tot;
+    st[chunk * kStatusWords + kIncItems] = baseItems + items;
+    Kokkos::memory_fence();
+    st[chunk * kStatusWords + kIncFlag] = tag;
+    if (chunk + 1 == chunks) {
+      counters(kRasterTris) = baseTris + tot;
+      if (blocks) counters(kRasterWork) = baseItems + items;
+    }
   }
 
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
@@ -444,34 +400,30 @@ struct WriteChunks {
       }
     });
     m.team_barrier();
-    // 2. Where each triangle's pieces (and items) go within the chunk's: one
-    //    scan of both, raster triangles above bit 40 (a chunk has fewer than
-    //    2^12 of them and 2^40 items).
-    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint64_t& upd, const bool final) {
-      const uint64_t v = uint64_t(count[i] & ~kClippedFlag) << 40 | blk[i];
-      if (final) {
-        offset[i] = uint32_t(upd >> 40);
-        blk[i] = uint32_t(upd & ((uint64_t(1) << 40) - 1));
-      }
-      upd += v;
+    // 2. Where each triangle's pieces (and items) go within the chunk's.
+    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
+      const uint32_t k = count[i] & ~kClippedFlag;
+      if (final) offset[i] = upd;
+      upd += k;
     });
+    if (blocks)
+      Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
+        const uint32_t v = blk[i];
+        if (final) blk[i] = upd;
+        upd += v;
+      });
     m.team_barrier();
     // 3. Where the chunk's go: after the chunks before it.
-    if (!lookBackMode) {
-      Kokkos::single(Kokkos::PerTeam(m), [&]() {
+    Kokkos::single(Kokkos::PerTeam(m), [&]() {
+      if (!lookBackMode) {
         shared[1] = chunkOffset(chunk);
         shared[2] = blocks ? chunkBlocks(chunk) : 0u;
-      });
-    } else {
+        return;
+      }
       const uint32_t tot = len ? offset[len - 1] + (count[len - 1] & ~kClippedFlag) : 0u;
       const uint32_t items = blocks && len ? blk[len - 1] + shared[3] : 0u;
-      uint32_t baseTris, baseItems;
-      lookBack(m, chunk, tot, items, baseTris, baseItems);
-      Kokkos::single(Kokkos::PerTeam(m), [&]() {
-        shared[1] = baseTris;
-        shared[2] = baseItems;
-      });
-    }
+      lookBack(chunk, tot, items, shared[1], shared[2]);
+    });
     m.team_barrier();
     const uint32_t base = shared[1], itemBase = shared[2];
     // 4. Unclipped triangles, copied piece by piece: neighbouring threads
@@ -580,7 +532,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
     // back chunk by chunk): beyond kSetupLookBackMaxChunks a count pass first.
     const bool lookBack = chunks <= kSetupLookBackMaxChunks;
     if (lookBack && f.setupStatus.extent(0) < size_t(chunks) * kStatusWords)  // zeroed: no flag of a frame yet
-      f.setupStatus = allocZeroed<uint64_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
+      f.setupStatus = allocZeroed<uint32_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
     if (!lookBack) {
       ensureCapacity(f.clipCount, "frame.setupClipCount", numTris);
       ensureCapacity(f.chunkBlocks, "frame.setupChunkBlocks", chunks);
