@@ -329,8 +329,8 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
   // A scene of one chunk of 256 triangles, of a few (the look-back: each
   // team waits for the totals of the chunks before it), of many (a count
   // pass first), and scenes with clipped triangles; teams of one thread
-  // (several teams wait on each other at once) and of several (one window
-  // of the look-back read by several threads).
+  // (several teams wait on each other at once) and of several (the team's
+  // scans and copies split between threads).
   struct Restore {
     ~Restore() { setGpuSetupOnHostForTests(0); }
   } restore;
