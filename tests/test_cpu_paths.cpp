@@ -350,7 +350,7 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
   REQUIRE(cases[1].scene.triangleCount() <= kSetupLookBackMaxChunks * 256);
   REQUIRE(cases[2].scene.triangleCount() > kSetupLookBackMaxChunks * 256);  // many
   const std::string sh = sharedDir();
-  if (!sh.empty() && fileExists(sh + "/models/cow.glb")) {  // a few chunks, some clipped: the eye inside
+  if (!sh.empty() && fileExists(sh + "/models/cow.glb")) {  // a few chunks of a model, the eye inside it
     Scene cow = loadGltf(sh + "/models/cow.glb");
     Camera cam = autoFrame(cow);
     cam.eye = cam.target + (cam.eye - cam.target) * 0.02;
