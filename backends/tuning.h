@@ -53,11 +53,10 @@ constexpr uint64_t kNaiveMaxBoxArea = kOnDevice ? 8 * 8 : 10 * 10;
 constexpr uint32_t kAutoStatsEvery = 8;
 
 // GPU setup: scenes of at most this many chunks of 256 triangles set up in
-// one pass, each chunk's team finding its place by reading the totals of the
-// chunks before it (primitive_setup.cpp); larger ones count first. On the
-// H100 one pass saved 2-8 us up to 23 chunks (cow), was even at 475 (engine)
-// and lost 65 us at 3,900 (tiny), whose first teams read hundreds of
-// predecessors each.
+// one pass, each chunk finding its place by looking back at the chunks before
+// it, one at a time; larger ones count first (primitive_setup.cpp). On the
+// H100 one pass saved 2-8 us up to 17 chunks, was even at 23 (cow) and lost
+// 30 us at 475 (engine) and 320 us at 3,900 (tiny).
 constexpr uint32_t kSetupLookBackMaxChunks = 24;
 
 // Scenes of at most this many draws have their model-view-projection
