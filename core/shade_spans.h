@@ -153,10 +153,11 @@ KOKKOS_FORCEINLINE_FUNCTION void packSpan(int32_t mb, int32_t m, const float* __
   const int32_t n = m < mb ? m : mb;  // m <= mb (the bound helps the compiler see packed[] is set)
   for (int32_t j = 0; j < n; ++j) dst[j] = packed[j];  // the span only
 }
-RAST_CPU_CLONES void packSpanWide(int32_t mb, int32_t m, const float* __restrict__ r, const float* __restrict__ g,
-                                  const float* __restrict__ b, const float* __restrict__ a,
-                                  const float* __restrict__ diffuse, const uint32_t* __restrict__ table,
-                                  uint32_t* __restrict__ dst) {
+// Table lookups per channel: no AVX-512 variant (cpu_clones.h).
+RAST_CPU_CLONES_GATHER void packSpanWide(int32_t mb, int32_t m, const float* __restrict__ r, const float* __restrict__ g,
+                                         const float* __restrict__ b, const float* __restrict__ a,
+                                         const float* __restrict__ diffuse, const uint32_t* __restrict__ table,
+                                         uint32_t* __restrict__ dst) {
   packSpan(mb, m, r, g, b, a, diffuse, table, dst);
 }
 
@@ -299,12 +300,13 @@ KOKKOS_FORCEINLINE_FUNCTION void bilinearBlend(const uint32_t* __restrict__ tx, 
     a[j] = a[j] * ((a00 * w00 + a10 * w10) + (a01 * w01 + a11 * w11));
   }
 }
-RAST_CPU_CLONES void bilinearBlendWide(const uint32_t* __restrict__ tx, const float* __restrict__ lut, int32_t m,
-                                       const int32_t* __restrict__ i00, const int32_t* __restrict__ i10,
-                                       const int32_t* __restrict__ i01, const int32_t* __restrict__ i11,
-                                       const float* __restrict__ fa, const float* __restrict__ fb,
-                                       float* __restrict__ r, float* __restrict__ g, float* __restrict__ b,
-                                       float* __restrict__ a) {
+// Sixteen table lookups a pixel: no AVX-512 variant (cpu_clones.h).
+RAST_CPU_CLONES_GATHER void bilinearBlendWide(const uint32_t* __restrict__ tx, const float* __restrict__ lut, int32_t m,
+                                              const int32_t* __restrict__ i00, const int32_t* __restrict__ i10,
+                                              const int32_t* __restrict__ i01, const int32_t* __restrict__ i11,
+                                              const float* __restrict__ fa, const float* __restrict__ fb,
+                                              float* __restrict__ r, float* __restrict__ g, float* __restrict__ b,
+                                              float* __restrict__ a) {
   bilinearBlend(tx, lut, m, i00, i10, i01, i11, fa, fb, r, g, b, a);
 }
 
