@@ -36,6 +36,10 @@ KOKKOS_INLINE_FUNCTION int32_t spanBlocks(int32_t m) { return (m + kSpanBlock - 
 // What spanLighting needs of a span's triangle, the camera and the light.
 struct SpanConsts {
   double s0, s1, s2, a0, a1, a2;  // edge values at the span's first pixel, steps per pixel
+  // E_i(X, Y) = a_i X + r_i Y + k_i at any pixel: every term and partial sum
+  // is an integer below 2^50 (raster_common.h), so double evaluates it exactly,
+  // in any order, and equals Edges::eval.
+  double r0, r1, r2, k0, k1, k2;
   float ia, iw0, iw1, iw2;        // 1 / area, per-vertex 1/w (1 when affine)
   float t00, t10, t20, t01, t11, t21;  // raster vertices' barycentrics in the drawn triangle
   float3 n0, n1, n2, q0, q1, q2;  // drawn vertices' world normals and positions
@@ -45,7 +49,7 @@ struct SpanConsts {
 
 // The arithmetic of a span, as loops over its pixels that the compiler
 // vectorizes (also for AVX2: cpu_clones.h): spanLighting for a row span,
-// spanLightingLanes for pixels given by their edge values; both then
+// spanLightingLanes for pixels given by their coordinates; both then
 // spanLightingFrom the screen-space weights.
 KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m, float* __restrict__ b0,
                                                   float* __restrict__ b1, float* __restrict__ b2, float* __restrict__ nx,
@@ -63,16 +67,18 @@ KOKKOS_FORCEINLINE_FUNCTION void spanLighting(const SpanConsts& k, int32_t m, fl
   }
   spanLightingFrom(k, m, b0, b1, b2, nx, ny, nz, diffuse);
 }
-// e0, e1, e2: each pixel's exact edge values (as doubles).
-KOKKOS_FORCEINLINE_FUNCTION void spanLightingLanes(const SpanConsts& k, int32_t m, const double* __restrict__ e0,
-                                                   const double* __restrict__ e1, const double* __restrict__ e2,
+// X, Y: each pixel's coordinates; its exact edge values come from the
+// plane equations in double (SpanConsts), in the vector loop.
+KOKKOS_FORCEINLINE_FUNCTION void spanLightingLanes(const SpanConsts& k, int32_t m, const int32_t* __restrict__ X,
+                                                   const int32_t* __restrict__ Y,
                                                    float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
                                                    float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
                                                    float* __restrict__ diffuse) {
   for (int32_t j = 0; j < m; ++j) {
-    b0[j] = float(e1[j]) * k.ia;
-    b1[j] = float(e2[j]) * k.ia;
-    b2[j] = float(e0[j]) * k.ia;
+    const double x = double(X[j]), y = double(Y[j]);
+    b0[j] = float(k.a1 * x + k.r1 * y + k.k1) * k.ia;
+    b1[j] = float(k.a2 * x + k.r2 * y + k.k2) * k.ia;
+    b2[j] = float(k.a0 * x + k.r0 * y + k.k0) * k.ia;
   }
   spanLightingFrom(k, m, b0, b1, b2, nx, ny, nz, diffuse);
 }
@@ -122,12 +128,12 @@ KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m
       diffuse[j] = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);  // exactly ambient without the headlight
     }
 }
-RAST_CPU_CLONES void spanLightingLanesWide(const SpanConsts& k, int32_t m, const double* __restrict__ e0,
-                                           const double* __restrict__ e1, const double* __restrict__ e2,
+RAST_CPU_CLONES void spanLightingLanesWide(const SpanConsts& k, int32_t m, const int32_t* __restrict__ X,
+                                           const int32_t* __restrict__ Y,
                                            float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
                                            float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
                                            float* __restrict__ diffuse) {
-  spanLightingLanes(k, m, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+  spanLightingLanes(k, m, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
 }
 // The same, built also for AVX2; worth its indirect call on longer spans.
 RAST_CPU_CLONES void spanLightingWide(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1,
@@ -415,14 +421,13 @@ struct ShadeSpans : Shade {
       }
     }
     // Batches of one triangle's runs, in the order their first runs appear.
-    int64_t lanes[kMaxSpanRun];
-    double e0[kMaxSpanRun], e1[kMaxSpanRun], e2[kMaxSpanRun];
+    // Each lane is a pixel's coordinates: its edge values are evaluated in the
+    // vector loop (spanLightingLanes), nothing per run but its pixels' places.
+    int32_t laneX[kMaxSpanRun], laneY[kMaxSpanRun];
     for (int32_t q = 0; q < nr; ++q) {
       if (runLen[q] == 0) continue;  // already shaded in an earlier batch
       const uint32_t id = runId[q];
       SpanTri& st = lookup(id - 1, cache);
-      const Edges& e = st.f.e;
-      const double a0 = double(e.A[0]), a1 = double(e.A[1]), a2 = double(e.A[2]);
       int32_t m = 0;
       const int32_t last = q + kBatchLookahead < nr ? q + kBatchLookahead : nr;
       for (int32_t t = q; t < last; ++t) {
@@ -430,20 +435,18 @@ struct ShadeSpans : Shade {
         const int32_t len = runLen[t];
         if (m + len > kMaxSpanRun) break;
         const int32_t X = tx0 + (runAt[t] & 0xffff), Y = ty0 + (runAt[t] >> 16);
-        // Exact edge values at the run's first pixel, stepped exactly in double.
-        const double c0 = double(e.eval(0, X, Y)), c1 = double(e.eval(1, X, Y)), c2 = double(e.eval(2, X, Y));
-        const int64_t at = int64_t(Y) * width + X;
         for (int32_t i = 0; i < len; ++i) {
-          e0[m + i] = c0 + a0 * double(i);
-          e1[m + i] = c1 + a1 * double(i);
-          e2[m + i] = c2 + a2 * double(i);
-          lanes[m + i] = at + i;
+          laneX[m + i] = X + i;
+          laneY[m + i] = Y;
         }
         m += len;
         runLen[t] = 0;
       }
-      for (int32_t i = m; i < spanBlocks(m); ++i) e0[i] = e1[i] = e2[i] = 0.0;  // the last block's spare lanes
-      shadeLanes(st, m, 0, lanes, e0, e1, e2);
+      for (int32_t i = m; i < spanBlocks(m); ++i) {  // the last block's spare lanes: a pixel of the batch
+        laneX[i] = laneX[0];
+        laneY[i] = laneY[0];
+      }
+      shadeLanes(st, m, 0, laneX, laneY);
     }
   }
 
@@ -487,6 +490,12 @@ struct ShadeSpans : Shade {
     k.a1 = double(e.A[1]);
     k.a2 = double(e.A[2]);
     k.a0 = double(e.A[0]);
+    k.r0 = double(e.B[0]);
+    k.r1 = double(e.B[1]);
+    k.r2 = double(e.B[2]);
+    k.k0 = double(e.C[0]);
+    k.k1 = double(e.C[1]);
+    k.k2 = double(e.C[2]);
     k.ia = t.invArea;
     k.iw0 = p.perspective ? t.invW[0] : 1.0f;
     k.iw1 = p.perspective ? t.invW[1] : 1.0f;
@@ -563,14 +572,13 @@ struct ShadeSpans : Shade {
     k.s1 = double(e.eval(1, xa, Y));
     k.s2 = double(e.eval(2, xa, Y));
     k.s0 = double(e.eval(0, xa, Y));
-    shadeLanes(st, m, out, nullptr, nullptr, nullptr, nullptr);
+    shadeLanes(st, m, out, nullptr, nullptr);
   }
 
-  // m pixels of st's triangle: a row span from pixel `out` on (lanes null),
-  // or any pixels, given by their indices and exact edge values (lanes:
-  // indices, e0, e1, e2; whole blocks of them).
-  KOKKOS_INLINE_FUNCTION void shadeLanes(SpanTri& st, int32_t m, int64_t out, const int64_t* lanes, const double* e0,
-                                         const double* e1, const double* e2) const {
+  // m pixels of st's triangle: a row span from pixel `out` on (X null), or
+  // any pixels, given by their coordinates (X, Y; whole blocks of them).
+  KOKKOS_INLINE_FUNCTION void shadeLanes(SpanTri& st, int32_t m, int64_t out, const int32_t* X,
+                                         const int32_t* Y) const {
     const TriFrag& f = st.f;
     float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
     float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
@@ -586,9 +594,9 @@ struct ShadeSpans : Shade {
     // scenes of tiny triangles).
     const bool wide = m >= kSpanWideMin;
     const int32_t mb = wide ? spanBlocks(m) : m;
-    if (lanes) {
-      if (wide) spanLightingLanesWide(k, mb, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
-      else spanLightingLanes(k, mb, e0, e1, e2, b0, b1, b2, nx, ny, nz, diffuse);
+    if (X) {
+      if (wide) spanLightingLanesWide(k, mb, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
+      else spanLightingLanes(k, mb, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
     } else {
       if (wide) spanLightingWide(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
       else spanLighting(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
@@ -625,18 +633,18 @@ struct ShadeSpans : Shade {
     }
     if (!p.floatOut) {
       uint32_t px[kMaxSpanRun];
-      uint32_t* dst = lanes ? px : color.data() + out;
+      uint32_t* dst = X ? px : color.data() + out;
       // The host backends share host memory with their kernels: a plain pointer.
       if (wide) packSpanWide(mb, m, br, bg, bb, ba, diffuse, encodePacked.data(), dst);
       else packSpan(mb, m, br, bg, bb, ba, diffuse, encodePacked.data(), dst);
-      if (lanes)
-        for (int32_t j = 0; j < m; ++j) color(lanes[j]) = px[j];
+      if (X)
+        for (int32_t j = 0; j < m; ++j) color(int64_t(Y[j]) * width + X[j]) = px[j];
       return;
     }
     for (int32_t j = 0; j < m; ++j) {
       const float d = diffuse[j];
       // rgb * diffuse + spec (0 in Lambert), as shadeFragment adds it
-      hdr(lanes ? lanes[j] : out + j) = float4{br[j] * d + 0.0f, bg[j] * d + 0.0f, bb[j] * d + 0.0f, ba[j]};
+      hdr(X ? int64_t(Y[j]) * width + X[j] : out + j) = float4{br[j] * d + 0.0f, bg[j] * d + 0.0f, bb[j] * d + 0.0f, ba[j]};
     }
   }
 
