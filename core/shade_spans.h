@@ -14,6 +14,7 @@
 // shader (see usable()).
 #pragma once
 
+#include "../backends/bit_scan.h"
 #include "../backends/cpu_clones.h"
 #include "shade_fragment.h"
 
@@ -316,6 +317,17 @@ RAST_CPU_CLONES_GATHER void bilinearBlendWide(const uint32_t* __restrict__ tx, c
   bilinearBlend(tx, lut, m, i00, i10, i01, i11, fa, fb, r, g, b, a);
 }
 
+// Where the runs of equal ids of a row of n <= 64 pixels start: bit j is set
+// where idx[j] differs from idx[j - 1] (bit 0 always), in one pass without
+// branches. A search for each run's end (runEnd) mispredicted its exit about
+// once a run: duck 800x800 2.15 -> 2.03 ms with the mask, cow 1.53 -> 1.42;
+// bigtri, whose rows are one or two long runs, 1.61 -> 1.63.
+KOKKOS_FORCEINLINE_FUNCTION uint64_t runStarts(const uint32_t* __restrict__ idx, int32_t n) {
+  uint64_t starts = 1;
+  for (int32_t j = 1; j < n; ++j) starts |= uint64_t(idx[j] != idx[j - 1]) << j;
+  return starts;
+}
+
 // What a span needs of its triangle, looked up and computed once per
 // triangle (Shade::prepare, then the triangle's constants of spanLighting and
 // of the texture) and kept in a small cache while a tile or run is shaded:
@@ -395,9 +407,11 @@ struct ShadeSpans : Shade {
           const uint32_t id = idx[j];
           primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
         }
-      for (int32_t j = 0; j < w;) {
+      for (uint64_t starts = runStarts(idx, w); starts;) {
+        const int32_t j = lowestBit(starts);
+        starts &= starts - 1;
+        const int32_t k = starts ? lowestBit(starts) : w;
         const uint32_t id = idx[j];
-        const int32_t k = runEnd(idx, j, w, id);
         if (id == 0) {
           if (p.floatOut) {
             for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
@@ -417,7 +431,6 @@ struct ShadeSpans : Shade {
           runLen[nr] = k - j;
           ++nr;
         }
-        j = k;
       }
     }
     // Batches of one triangle's runs, in the order their first runs appear.
