@@ -381,7 +381,6 @@ struct ShadeSpans : Shade {
   // mesh cover a few pixels of each row, and shading them row by row paid a
   // span's fixed cost and a partly empty vector for each.
   static constexpr int32_t kMaxTileRuns = 1024;
-  static constexpr int32_t kBatchLookahead = 64;  // runs searched for a batch's triangle (bounds the cost)
   static constexpr int32_t kBatchRunMax = 16;     // runs from this long are shaded as row spans at once
   KOKKOS_INLINE_FUNCTION void shadeTile(int32_t tx0, int32_t ty0, int32_t w, int32_t h, int32_t stride,
                                         const uint32_t* ib, const uint32_t* zb) const {
@@ -433,7 +432,30 @@ struct ShadeSpans : Shade {
         }
       }
     }
-    // Batches of one triangle's runs, in the order their first runs appear.
+    // Each run chained to the next run of its triangle (runNext, -1: none)
+    // through a small open-addressing table from id to its latest run, so that
+    // a batch follows its triangle's runs instead of searching for them.
+    int32_t runNext[kMaxTileRuns];
+    {
+      uint32_t hKey[2 * kMaxTileRuns];  // 0: empty (background is never a run here)
+      int32_t hLast[2 * kMaxTileRuns];
+      int32_t bits = 6;  // at least twice as many slots as runs
+      while ((1 << bits) < 2 * nr) ++bits;
+      const uint32_t mask = (1u << bits) - 1u;
+      for (uint32_t i = 0; i <= mask; ++i) hKey[i] = 0;
+      for (int32_t t = 0; t < nr; ++t) {
+        const uint32_t id = runId[t];
+        uint32_t h = (id * 0x9E3779B1u) >> (32 - bits);  // Fibonacci hashing: the product's top bits
+        while (hKey[h] != 0 && hKey[h] != id) h = (h + 1) & mask;
+        if (hKey[h] == id) runNext[hLast[h]] = t;
+        else hKey[h] = id;
+        hLast[h] = t;
+        runNext[t] = -1;
+      }
+    }
+    // Batches of one triangle's runs, in the order their first runs appear:
+    // a batch takes runs along the chain while they fit in kMaxSpanRun lanes;
+    // the rest start a later batch when the scan reaches them.
     // Each lane is a pixel's coordinates: its edge values are evaluated in the
     // vector loop (spanLightingLanes), nothing per run but its pixels' places.
     int32_t laneX[kMaxSpanRun], laneY[kMaxSpanRun];
@@ -442,9 +464,7 @@ struct ShadeSpans : Shade {
       const uint32_t id = runId[q];
       SpanTri& st = lookup(id - 1, cache);
       int32_t m = 0;
-      const int32_t last = q + kBatchLookahead < nr ? q + kBatchLookahead : nr;
-      for (int32_t t = q; t < last; ++t) {
-        if (runId[t] != id || runLen[t] == 0) continue;
+      for (int32_t t = q; t >= 0; t = runNext[t]) {
         const int32_t len = runLen[t];
         if (m + len > kMaxSpanRun) break;
         const int32_t X = tx0 + (runAt[t] & 0xffff), Y = ty0 + (runAt[t] >> 16);
