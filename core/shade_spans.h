@@ -319,9 +319,9 @@ RAST_CPU_CLONES_GATHER void bilinearBlendWide(const uint32_t* __restrict__ tx, c
 
 // Where the runs of equal ids of a row of n <= 64 pixels start: bit j is set
 // where idx[j] differs from idx[j - 1] (bit 0 always), in one pass without
-// branches. A search for each run's end (runEnd) mispredicted its exit about
-// once a run: duck 800x800 2.15 -> 2.03 ms with the mask, cow 1.53 -> 1.42;
-// bigtri, whose rows are one or two long runs, 1.61 -> 1.63.
+// branches. A search for each run's end (the earlier runEnd) mispredicted
+// its exit about once a run: duck 800x800 2.15 -> 2.03 ms with the mask, cow
+// 1.53 -> 1.42; bigtri, whose rows are one or two long runs, 1.61 -> 1.63.
 KOKKOS_FORCEINLINE_FUNCTION uint64_t runStarts(const uint32_t* __restrict__ idx, int32_t n) {
   uint64_t starts = 1;
   for (int32_t j = 1; j < n; ++j) starts |= uint64_t(idx[j] != idx[j - 1]) << j;
@@ -554,15 +554,6 @@ struct ShadeSpans : Shade {
     }
   }
 
-  // End of the run of `id` that starts at j in idx[0, n): four at a time
-  // first (one branch per four pixels of a long run).
-  KOKKOS_INLINE_FUNCTION static int32_t runEnd(const uint32_t* idx, int32_t j, int32_t n, uint32_t id) {
-    int32_t k = j + 1;
-    while (k + 4 <= n && ((idx[k] ^ id) | (idx[k + 1] ^ id) | (idx[k + 2] ^ id) | (idx[k + 3] ^ id)) == 0) k += 4;
-    while (k < n && idx[k] == id) ++k;
-    return k;
-  }
-
   // Pixels [x0, x0 + n) of row Y, given the visibility keys' halves: raster
   // index + 1 (0: none) and depth bits.
   KOKKOS_INLINE_FUNCTION void shadeRow(int32_t x0, int32_t Y, int32_t n, const uint32_t* idx,
@@ -575,26 +566,32 @@ struct ShadeSpans : Shade {
         const uint32_t id = idx[j];
         primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
       }
-    for (int32_t j = 0; j < n;) {
-      const uint32_t id = idx[j];
-      const int32_t k = runEnd(idx, j, n, id);
-      if (id == 0) {
-        if (p.floatOut) {
-          for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
+    // Runs found 64 pixels at a time (runStarts); a run across a boundary
+    // becomes two spans, which shade the same pixels alike.
+    for (int32_t base = 0; base < n; base += 64) {
+      const int32_t end = n - base < 64 ? n : base + 64;
+      for (uint64_t starts = runStarts(idx + base, end - base); starts;) {
+        const int32_t j = base + lowestBit(starts);
+        starts &= starts - 1;
+        const int32_t k = starts ? base + lowestBit(starts) : end;
+        const uint32_t id = idx[j];
+        if (id == 0) {
+          if (p.floatOut) {
+            for (int32_t m = j; m < k; ++m) hdr(row + m) = p.backgroundFilm;
+          } else {
+            uint32_t* const dst = color.data() + row;  // a plain fill the compiler vectorizes
+            const uint32_t bg = p.backgroundPacked;
+            for (int32_t m = j; m < k; ++m) dst[m] = bg;
+          }
         } else {
-          uint32_t* const dst = color.data() + row;  // a plain fill the compiler vectorizes
-          const uint32_t bg = p.backgroundPacked;
-          for (int32_t m = j; m < k; ++m) dst[m] = bg;
-        }
-      } else {
-        SpanTri& st = lookup(id - 1, cache);
-        if ((id - 1) & kLineFlag) {
-          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, x0 + m, Y, 0, 0, 0.0f, nullptr));
-        } else {
-          span(st, row + j, x0 + j, Y, k - j);
+          SpanTri& st = lookup(id - 1, cache);
+          if ((id - 1) & kLineFlag) {
+            for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, x0 + m, Y, 0, 0, 0.0f, nullptr));
+          } else {
+            span(st, row + j, x0 + j, Y, k - j);
+          }
         }
       }
-      j = k;
     }
   }
 
