@@ -62,7 +62,7 @@ KOKKOS_FORCEINLINE_FUNCTION void depthSpan(int32_t m, double s0, double s2, doub
   }
 }
 
-// The same, built also for AVX2; worth its indirect call on longer spans.
+// The same, built also for AVX-512 and AVX2; worth its indirect call on longer spans.
 RAST_CPU_CLONES void depthSpanWide(int32_t m, double s0, double s2, double a0, double a2, float z0, float dz1,
                                    float dz2, float ia, uint32_t id, uint32_t* __restrict__ zr,
                                    uint32_t* __restrict__ ir) {

@@ -22,11 +22,11 @@ namespace rast {
 namespace shading {
 
 constexpr int kMaxSpanRun = 64;  // longest run a ShadeSpans work item takes
-// A span of kSpanWideMin pixels or more runs the AVX2 loops over whole blocks
-// of kSpanBlock pixels (past the span's end into the spare room of its
-// arrays, extrapolating the plane; nothing past the end is stored outside
-// them), so that a short span is one vector instead of a scalar remainder
-// loop. A single pixel (most of them on scenes of tiny triangles) runs the
+// A span of kSpanWideMin pixels or more runs the wide (AVX-512 or AVX2) loops
+// over whole blocks of kSpanBlock pixels (past the span's end into the spare
+// room of its arrays, extrapolating the plane; nothing past the end is stored
+// outside them), so that a short span is one vector instead of a scalar
+// remainder loop. A single pixel (most of them on scenes of tiny triangles) runs the
 // inline loops over itself only. (Measured on duck, cow, engine, tiny: 2
 // beats 4 and 8.)
 constexpr int kSpanBlock = 8;
@@ -49,7 +49,7 @@ struct SpanConsts {
 };
 
 // The arithmetic of a span, as loops over its pixels that the compiler
-// vectorizes (also for AVX2: cpu_clones.h): spanLighting for a row span,
+// vectorizes (also for AVX-512 and AVX2: cpu_clones.h): spanLighting for a row span,
 // spanLightingLanes for pixels given by their coordinates; both then
 // spanLightingFrom the screen-space weights.
 KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m, float* __restrict__ b0,
@@ -136,7 +136,7 @@ RAST_CPU_CLONES void spanLightingLanesWide(const SpanConsts& k, int32_t m, const
                                            float* __restrict__ diffuse) {
   spanLightingLanes(k, m, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
 }
-// The same, built also for AVX2; worth its indirect call on longer spans.
+// The same, built also for AVX-512 and AVX2; worth its indirect call on longer spans.
 RAST_CPU_CLONES void spanLightingWide(const SpanConsts& k, int32_t m, float* __restrict__ b0, float* __restrict__ b1,
                                       float* __restrict__ b2, float* __restrict__ nx, float* __restrict__ ny,
                                       float* __restrict__ nz, float* __restrict__ diffuse) {
@@ -317,20 +317,22 @@ RAST_CPU_CLONES_GATHER void bilinearBlendWide(const uint32_t* __restrict__ tx, c
   bilinearBlend(tx, lut, m, i00, i10, i01, i11, fa, fb, r, g, b, a);
 }
 
-// Where the runs of equal ids of a row of n <= 64 pixels start: bit j is set
+// Where the runs of equal ids of a row of n <= kRunMaskBits pixels start: bit j is set
 // where idx[j] differs from idx[j - 1] (bit 0 always), in one pass without
 // branches. A search for each run's end (the earlier runEnd) mispredicted
 // its exit about once a run: duck 800x800 2.15 -> 2.03 ms with the mask, cow
 // 1.53 -> 1.42. A row of one run (a large triangle's, the background) is
 // told first by a cheaper vectorized test: bigtri 1080p 5.48 -> 5.02 ms.
+constexpr int32_t kRunMaskBits = 64;  // the longest row runStarts takes
 KOKKOS_FORCEINLINE_FUNCTION uint64_t runStarts(const uint32_t* __restrict__ idx, int32_t n) {
-  uint32_t differs = 0;  // first, one run (a large triangle's rows, background): a vectorized test
+  uint32_t differs = 0;
   for (int32_t j = 1; j < n; ++j) differs |= idx[j] ^ idx[0];
   if (differs == 0) return 1;
   uint64_t starts = 1;
   for (int32_t j = 1; j < n; ++j) starts |= uint64_t(idx[j] != idx[j - 1]) << j;
   return starts;
 }
+static_assert(kMaxSpanRun <= kRunMaskBits, "shadeTile finds a row's runs with one runStarts");
 
 // What a span needs of its triangle, looked up and computed once per
 // triangle (Shade::prepare, then the triangle's constants of spanLighting and
@@ -570,10 +572,10 @@ struct ShadeSpans : Shade {
         const uint32_t id = idx[j];
         primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
       }
-    // Runs found 64 pixels at a time (runStarts); a run across a boundary
-    // becomes two spans, which shade the same pixels alike.
-    for (int32_t base = 0; base < n; base += 64) {
-      const int32_t end = n - base < 64 ? n : base + 64;
+    // Runs found kRunMaskBits pixels at a time (runStarts); a run across a
+    // boundary becomes two spans, which shade the same pixels alike.
+    for (int32_t base = 0; base < n; base += kRunMaskBits) {
+      const int32_t end = n - base < kRunMaskBits ? n : base + kRunMaskBits;
       for (uint64_t starts = runStarts(idx + base, end - base); starts;) {
         const int32_t j = base + lowestBit(starts);
         starts &= starts - 1;
@@ -623,7 +625,7 @@ struct ShadeSpans : Shade {
     // weights in the drawn triangle, the normal, the position and the
     // headlight of every pixel (Shade::bary, shadeFragment): spanLighting.
     const SpanConsts& k = st.k;
-    // Lanes computed: a long span's loops (AVX2 clones) run over whole blocks;
+    // Lanes computed: a long span's loops (AVX-512 and AVX2 clones) run over whole blocks;
     // a short one's inline loops over its pixels only (one pixel each on
     // scenes of tiny triangles).
     const bool wide = m >= kSpanWideMin;
