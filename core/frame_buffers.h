@@ -49,7 +49,7 @@ struct FrameBuffers {
   DView<float3> worldNormal; // per drawn vertex, only when shading needs it
   DView<uint32_t> chunkOffset; // per chunk of drawn triangles: raster triangles, then their exclusive prefix sum
   DView<uint32_t> chunkBlocks; // per chunk of drawn triangles (after a count pass): the visbuffer's first work item
-  DView<uint32_t> setupStatus; // per chunk of drawn triangles (GPUs, few chunks): the setup's look-back status, tagged by frame
+  DView<uint64_t> setupStatus; // per chunk of drawn triangles (GPUs, few chunks): the setup's look-back status, tagged by frame
   DView<uint8_t> clipCount;    // per drawn triangle that needs clipping: its raster triangles (setup's count -> write)
   DView<uint32_t> clipBlocks;  // the same triangles' visbuffer work items (GPUs, count pass -> write)
   DView<RasterTri> tris;     // raster triangles

@@ -287,13 +287,19 @@ static_assert(sizeof(RasterTri) % sizeof(Quad) == 0, "RasterTri is copied in 16-
 // disjoint shared-memory banks (at six pieces, two would share).
 constexpr uint32_t kStageStride = kTriQuads + 1;
 
-// Chunk status for the write pass's look-back, kStatusWords per chunk: a flag
-// and two totals (raster triangles, visbuffer items) for the chunk alone
-// (aggregate), then the same through the chunk (inclusive). A flag holds the
-// frame number (FrameUniforms::frame) it was published in, so nothing is
-// reset between frames; the buffer starts zeroed and frames count from 1.
-constexpr uint32_t kStatusWords = 8;
-enum : uint32_t { kAggFlag = 0, kAggTris, kAggItems, kIncFlag = 4, kIncTris, kIncItems };
+// Chunk status for the write pass's look-back, kStatusWords 64-bit words per
+// chunk: its raster triangles and visbuffer items alone (aggregate), then
+// through the chunk (inclusive). A word holds the frame number
+// (FrameUniforms::frame) it was published in above its 32-bit value, so that
+// one load reads a value and whether it is this frame's (no fence between a
+// flag and its value, and the loads of several words need not wait for each
+// other), and nothing is reset between frames; the buffer starts zeroed and
+// frames count from 1.
+constexpr uint32_t kStatusWords = 4;
+enum : uint32_t { kAggTris = 0, kAggItems, kIncTris, kIncItems };
+KOKKOS_INLINE_FUNCTION uint64_t statusWord(uint32_t tag, uint32_t value) { return uint64_t(tag) << 32 | value; }
+// Predecessors whose status one look-back step reads at once.
+constexpr uint32_t kLookBackBatch = 4;
 
 // The GPU's setup in one pass (Merrill and Garland's single-pass scan with
 // decoupled look-back): each team takes the next chunk by ticket, sets up its
@@ -302,7 +308,8 @@ enum : uint32_t { kAggFlag = 0, kAggTris, kAggItems, kIncFlag = 4, kIncTris, kIn
 // (they are running, and never wait for later ones, so every wait ends).
 struct WriteChunks {
   SetupCommon c;
-  DView<uint32_t> status, counters, workOffset;
+  DView<uint64_t> status;
+  DView<uint32_t> counters, workOffset;
   DView<FrameUniforms> frame;
   DView<RasterTri> tris;
   uint32_t capacity, numTris, chunks;
@@ -321,7 +328,11 @@ struct WriteChunks {
   }
 
   // One thread: publish this chunk's totals, add up the chunks before it, and
-  // publish the inclusive totals. Returns the exclusive ones.
+  // publish the inclusive totals. Returns the exclusive ones. Each step reads
+  // the status of kLookBackBatch predecessors with independent loads, then
+  // takes them in order: aggregates until the nearest inclusive total; a
+  // predecessor with neither is read again in the next step. (One at a time,
+  // each step waited a memory round trip.)
   KOKKOS_INLINE_FUNCTION void lookBack(uint32_t chunk, uint32_t tot, uint32_t items, uint32_t& baseTris,
                                        uint32_t& baseItems) const {
     baseTris = 0;
@@ -332,32 +343,34 @@ struct WriteChunks {
       return;
     }
     const uint32_t tag = frame(0).frame;
-    volatile uint32_t* st = status.data();
+    volatile uint64_t* st = status.data();
+    auto ready = [tag](uint64_t w) { return uint32_t(w >> 32) == tag; };
     if (chunk > 0) {
-      st[chunk * kStatusWords + kAggTris] = tot;
-      st[chunk * kStatusWords + kAggItems] = items;
-      Kokkos::memory_fence();
-      st[chunk * kStatusWords + kAggFlag] = tag;
-      for (uint32_t p = chunk - 1;;) {
-        volatile uint32_t* q = st + p * kStatusWords;
-        if (q[kIncFlag] == tag) {
-          Kokkos::memory_fence();
-          baseTris += q[kIncTris];
-          baseItems += q[kIncItems];
-          break;
+      st[chunk * kStatusWords + kAggTris] = statusWord(tag, tot);
+      st[chunk * kStatusWords + kAggItems] = statusWord(tag, items);
+      // Predecessors below p are still to add. Chunk 0 publishes its
+      // inclusive totals at once (no aggregate): p never passes it.
+      for (uint32_t p = chunk, done = 0; !done;) {
+        uint64_t w[kLookBackBatch][kStatusWords];
+        for (uint32_t j = 0; j < kLookBackBatch; ++j)
+          for (uint32_t k = 0; k < kStatusWords; ++k) w[j][k] = j < p ? st[(p - 1 - j) * kStatusWords + k] : 0u;
+        uint32_t j = 0;
+        for (; j < kLookBackBatch && j < p; ++j) {
+          if (ready(w[j][kIncTris]) && ready(w[j][kIncItems])) {
+            baseTris += uint32_t(w[j][kIncTris]);
+            baseItems += uint32_t(w[j][kIncItems]);
+            done = 1;
+            break;
+          }
+          if (!ready(w[j][kAggTris]) || !ready(w[j][kAggItems])) break;  // not yet: read it again
+          baseTris += uint32_t(w[j][kAggTris]);
+          baseItems += uint32_t(w[j][kAggItems]);
         }
-        if (q[kAggFlag] == tag) {
-          Kokkos::memory_fence();
-          baseTris += q[kAggTris];
-          baseItems += q[kAggItems];
-          --p;  // chunk 0 publishes its inclusive totals at once: p never passes it
-        }
+        p -= done ? 0u : j;
       }
     }
-    st[chunk * kStatusWords + kIncTris] = baseTris + tot;
-    st[chunk * kStatusWords + kIncItems] = baseItems + items;
-    Kokkos::memory_fence();
-    st[chunk * kStatusWords + kIncFlag] = tag;
+    st[chunk * kStatusWords + kIncTris] = statusWord(tag, baseTris + tot);
+    st[chunk * kStatusWords + kIncItems] = statusWord(tag, baseItems + items);
     if (chunk + 1 == chunks) {
       counters(kRasterTris) = baseTris + tot;
       if (blocks) counters(kRasterWork) = baseItems + items;
@@ -536,7 +549,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
     // back chunk by chunk): beyond kSetupLookBackMaxChunks a count pass first.
     const bool lookBack = chunks <= kSetupLookBackMaxChunks;
     if (lookBack && f.setupStatus.extent(0) < size_t(chunks) * kStatusWords)  // zeroed: no flag of a frame yet
-      f.setupStatus = allocZeroed<uint32_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
+      f.setupStatus = allocZeroed<uint64_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
     if (!lookBack) {
       ensureCapacity(f.clipCount, "frame.setupClipCount", numTris);
       ensureCapacity(f.chunkBlocks, "frame.setupChunkBlocks", chunks);

@@ -187,7 +187,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   for (int k = 0; k < 16; ++k) u.camera.view.m[k] = float(glm::value_ptr(view)[k]);
   if (frameNumber_ == ~0u) {  // tags would repeat: start again from zeroed status
     frameNumber_ = 0;
-    frame_.setupStatus = DView<uint32_t>();
+    frame_.setupStatus = DView<uint64_t>();
   }
   u.frame = ++frameNumber_;
   // The upload: the uniforms, then (few draws) the draws' matrices.
