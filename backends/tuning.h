@@ -54,9 +54,12 @@ constexpr uint32_t kAutoStatsEvery = 8;
 
 // GPU setup: scenes of at most this many chunks of 256 triangles set up in
 // one pass, each chunk finding its place by looking back at the chunks before
-// it, one at a time; larger ones count first (primitive_setup.cpp). On the
-// H100 one pass saved 2-8 us up to 17 chunks, was even at 23 (cow) and lost
-// 30 us at 475 (engine) and 320 us at 3,900 (tiny).
+// it, four at a time (kLookBackBatch); larger ones count first
+// (primitive_setup.cpp). On the H100, one at a time saved 2-8 us up to 17
+// chunks, was even at 23 (cow) and lost 30 us at 475 (engine) and 320 us at
+// 3,900 (tiny); four at a time then took cow's frame 0.076 -> 0.067-0.070 ms
+// and duck's 0.080 -> 0.074-0.075, one- and two-chunk scenes even (two
+// same-run A/Bs, 300 frames, docs/performance.md).
 constexpr uint32_t kSetupLookBackMaxChunks = 24;
 
 // Scenes of at most this many draws have their model-view-projection

@@ -546,7 +546,8 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
                               numTris, single ? 1 : 0, blocks ? 1 : 0});
   } else {
     // The look-back's wait grows with the number of chunks (one thread walks
-    // back chunk by chunk): beyond kSetupLookBackMaxChunks a count pass first.
+    // back, kLookBackBatch chunks a step): beyond kSetupLookBackMaxChunks a
+    // count pass first.
     const bool lookBack = chunks <= kSetupLookBackMaxChunks;
     if (lookBack && f.setupStatus.extent(0) < size_t(chunks) * kStatusWords)  // zeroed: no flag of a frame yet
       f.setupStatus = allocZeroed<uint64_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
