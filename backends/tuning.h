@@ -58,9 +58,12 @@ constexpr uint32_t kAutoStatsEvery = 8;
 // (primitive_setup.cpp). On the H100, one at a time saved 2-8 us up to 17
 // chunks, was even at 23 (cow) and lost 30 us at 475 (engine) and 320 us at
 // 3,900 (tiny); four at a time then took cow's frame 0.076 -> 0.067-0.070 ms
-// and duck's 0.080 -> 0.074-0.075, one- and two-chunk scenes even (two
-// same-run A/Bs, 300 frames, docs/performance.md).
-constexpr uint32_t kSetupLookBackMaxChunks = 24;
+// and duck's 0.080 -> 0.074-0.075, one- and two-chunk scenes even, and
+// engine's setup (475 chunks) from 39.9 us with the count pass to 32.7 in one
+// pass (engine_inside 61.7 -> 55.6), so the limit rose from 24 to 512 (same-run
+// A/Bs, 300 frames, docs/performance.md). Tiny's 3,900 chunks still count first:
+// one pass was not measured there with four at a time.
+constexpr uint32_t kSetupLookBackMaxChunks = 512;
 
 // Scenes of at most this many draws have their model-view-projection
 // matrices computed on the host and uploaded with the camera, in the same

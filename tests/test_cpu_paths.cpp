@@ -326,9 +326,9 @@ TEST_CASE("textured frames with texture coordinates outside 0..1 shade the same 
 
 
 TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images", "[cpu-paths]") {
-  // A scene of one chunk of 256 triangles, of a few (the look-back: each
-  // team waits for the totals of the chunks before it), of many (a count
-  // pass first), and scenes with clipped triangles; teams of one thread
+  // A scene of one chunk of 256 triangles, of a few and of a few hundred (the
+  // look-back: each team waits for the totals of the chunks before it), of
+  // many (a count pass first), and scenes with clipped triangles; teams of one thread
   // (several teams wait on each other at once) and of several (the team's
   // scans and copies split between threads).
   struct Restore {
@@ -340,8 +340,8 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
     Camera cam;
   };
   std::vector<Case> cases;
-  for (const char* spec : {"builtin:default", "builtin:tiny?n=4000", "builtin:tiny?n=20000", "builtin:nearplane",
-                           "builtin:bigtri"}) {
+  for (const char* spec : {"builtin:default", "builtin:tiny?n=4000", "builtin:tiny?n=140000", "builtin:nearplane",
+                           "builtin:bigtri", "builtin:tiny?n=60000"}) {
     Scene s = builtinScene(spec);
     const Camera cam = defaultCamera(s);
     cases.push_back({spec, std::move(s), cam});
@@ -349,6 +349,8 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
   REQUIRE(cases[1].scene.triangleCount() > 2 * 256);  // a few chunks
   REQUIRE(cases[1].scene.triangleCount() <= kSetupLookBackMaxChunks * 256);
   REQUIRE(cases[2].scene.triangleCount() > kSetupLookBackMaxChunks * 256);  // many
+  REQUIRE(cases[5].scene.triangleCount() > 200 * 256);  // a long look-back (engine's 475 chunks take it)
+  REQUIRE(cases[5].scene.triangleCount() <= kSetupLookBackMaxChunks * 256);
   const std::string sh = sharedDir();
   if (!sh.empty() && fileExists(sh + "/models/cow.glb")) {  // a few chunks of a model, the eye inside it
     Scene cow = loadGltf(sh + "/models/cow.glb");
