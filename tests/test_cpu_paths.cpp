@@ -351,6 +351,22 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
   REQUIRE(cases[2].scene.triangleCount() > kSetupLookBackMaxChunks * 256);  // many
   REQUIRE(cases[5].scene.triangleCount() > 200 * 256);  // a long look-back (engine's 475 chunks take it)
   REQUIRE(cases[5].scene.triangleCount() <= kSetupLookBackMaxChunks * 256);
+  // A grid seen from just above it, the near plane cutting a row of visible
+  // triangles: dozens of clipped triangles in a chunk whose pieces are drawn
+  // (elsewhere, clipped triangles yield no piece, or one chunk a handful),
+  // with the look-back (n=100) and after a count pass (n=400).
+  for (const char* spec : {"builtin:grid?n=100", "builtin:grid?n=400"}) {
+    Camera cam;
+    cam.eye = {0, -0.9, 0.03};
+    cam.target = {0, 1, 0.03};
+    cam.up = {0, 0, 1};
+    cam.fovyDeg = 90;
+    cam.znear = 0.1;
+    cam.zfar = 10;
+    cases.push_back({std::string(spec) + ", near plane across", builtinScene(spec), cam});
+  }
+  REQUIRE(cases[6].scene.triangleCount() <= kSetupLookBackMaxChunks * 256);
+  REQUIRE(cases[7].scene.triangleCount() > kSetupLookBackMaxChunks * 256);
   const std::string sh = sharedDir();
   if (!sh.empty() && fileExists(sh + "/models/cow.glb")) {  // a few chunks of a model, the eye inside it
     Scene cow = loadGltf(sh + "/models/cow.glb");
