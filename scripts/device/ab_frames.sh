@@ -21,15 +21,8 @@ dev=$root/.device
 m=$dev/shared/models
 mkdir -p "$out" /tmp/stress
 python3 "$dev/glref_src/gen_scenes.py" /tmp/stress > /dev/null
-scenes=(
-  "empty|builtin:degenerate --eye 0,0,-5 --target 0,0,-10"
-  "box|$m/box.glb" "checkerboard|$m/checkerboard.glb" "cow|$m/cow.glb" "duck|$m/duck.glb"
-  "engine|$m/engine.glb" "milktruck|$m/milktruck.glb"
-  "bigtri|/tmp/stress/bigtri.glb --eye 0,0,1 --target 0,0,0 --up 0,1,0 --fovy 45 --near 0.1 --far 10"
-  "tiny|/tmp/stress/tiny.glb" "overdraw|/tmp/stress/overdraw.glb"
-  "engine_inside|$m/engine.glb --eye 0,-44.46,-6 --target 300,-44.46,-6 --up 0,1,0 --fovy 60 --near 1 --far 5000"
-  "milktruck_cab|$m/milktruck.glb --eye 0.5,1.3,0.2 --target 3,1.0,0.5 --up 0,1,0 --fovy 45 --near 0.5 --far 807.250969"
-)
+# NAME|ARGS lines of scenes.txt, placeholders filled in.
+mapfile -t scenes < <(sed -e '/^#/d' -e '/^$/d' -e "s|{models}|$m|g" -e 's|{stress}|/tmp/stress|g' "$root/scripts/device/scenes.txt")
 python3 - "$out" "$base" "$new" "$methods" "$frames" "${scenes[@]}" <<'EOF'
 import csv, json, os, subprocess, sys, tempfile
 out, base, new, methods, frames = sys.argv[1:6]

@@ -8,7 +8,8 @@
 #
 #   python3 scripts/device/ab_multi.py OUT.csv ROUNDS FRAMES name=BINARY ...
 #
-# Run from the repository root next to .device/ (scripts/device/pack.sh).
+# Run from the repository root next to .device/ (scripts/device/pack.sh); the
+# scenes are scripts/device/scenes.txt's (read next to this file, or from there).
 # AB_SCENES=a,b limits the scenes; AB_METHOD (default auto) picks the method.
 # OUT.csv: one row per round, scene and binary, with the stage medians.
 import csv, json, os, subprocess, sys, tempfile, statistics
@@ -18,16 +19,12 @@ if not os.path.exists("/tmp/stress/bigtri.glb"):
     subprocess.run([sys.executable, ".device/glref_src/gen_scenes.py", "/tmp/stress"], check=True,
                    stdout=subprocess.DEVNULL)
 bins = [a.split("=", 1) for a in sys.argv[4:]]
-m = ".device/shared/models"
-scenes = {
-  "empty": "builtin:degenerate --eye 0,0,-5 --target 0,0,-10",
-  "box": f"{m}/box.glb", "cow": f"{m}/cow.glb", "duck": f"{m}/duck.glb",
-  "engine": f"{m}/engine.glb", "milktruck": f"{m}/milktruck.glb",
-  "bigtri": "/tmp/stress/bigtri.glb --eye 0,0,1 --target 0,0,0 --up 0,1,0 --fovy 45 --near 0.1 --far 10",
-  "tiny": "/tmp/stress/tiny.glb", "overdraw": "/tmp/stress/overdraw.glb",
-  "engine_inside": f"{m}/engine.glb --eye 0,-44.46,-6 --target 300,-44.46,-6 --up 0,1,0 --fovy 60 --near 1 --far 5000",
-  "milktruck_cab": f"{m}/milktruck.glb --eye 0.5,1.3,0.2 --target 3,1.0,0.5 --up 0,1,0 --fovy 45 --near 0.5 --far 807.250969",
-}
+scenes = {}  # scenes.txt's NAME|ARGS lines, placeholders filled in
+here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes.txt")  # or a copy's repository
+for line in open(here if os.path.exists(here) else "scripts/device/scenes.txt"):
+    if line.strip() and not line.startswith("#"):
+        name, args = line.rstrip("\n").split("|", 1)
+        scenes[name] = args.replace("{models}", ".device/shared/models").replace("{stress}", "/tmp/stress")
 only = os.environ.get("AB_SCENES")
 if only: scenes = {k: v for k, v in scenes.items() if k in only.split(",")}
 res = {}

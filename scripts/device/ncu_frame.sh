@@ -18,14 +18,14 @@ rast=${RAST_NCU_BIN:-$dev/cuda/rast}
 ncu=$(command -v ncu || ls /opt/nvidia/nsight-compute/*/ncu 2>/dev/null | sed -n 1p)
 mkdir -p "$out" /tmp/stress
 python3 "$dev/glref_src/gen_scenes.py" /tmp/stress > /dev/null
-scenes=(
-  "empty|builtin:degenerate --eye 0,0,-5 --target 0,0,-10"
-  "box|$m/box.glb" "cow|$m/cow.glb" "duck|$m/duck.glb"
-  "engine|$m/engine.glb" "milktruck|$m/milktruck.glb"
-  "bigtri|/tmp/stress/bigtri.glb --eye 0,0,1 --target 0,0,0 --up 0,1,0 --fovy 45 --near 0.1 --far 10"
-  "engine_inside|$m/engine.glb --eye 0,-44.46,-6 --target 300,-44.46,-6 --up 0,1,0 --fovy 60 --near 1 --far 5000"
-  "milktruck_cab|$m/milktruck.glb --eye 0.5,1.3,0.2 --target 3,1.0,0.5 --up 0,1,0 --fovy 45 --near 0.5 --far 807.250969"
-)
+# NAME|ARGS lines of scenes.txt, placeholders filled in; RAST_NCU_SCENES (comma-
+# separated names) picks some: by default all but checkerboard, tiny and
+# overdraw, whose kernels the others cover.
+keep=${RAST_NCU_SCENES:-empty,box,cow,duck,engine,milktruck,bigtri,engine_inside,milktruck_cab}
+scenes=()
+while IFS= read -r spec; do
+  case ",$keep," in *",${spec%%|*},"*) scenes+=("$spec") ;; esac
+done < <(sed -e '/^#/d' -e '/^$/d' -e "s|{models}|$m|g" -e 's|{stress}|/tmp/stress|g' "$root/scripts/device/scenes.txt")
 for spec in "${scenes[@]}"; do
   name=${spec%%|*}
   args=${spec#*|}
