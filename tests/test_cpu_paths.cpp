@@ -384,8 +384,9 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
       // The GPU's setup first, the reference last: a renderer's buffers
       // often reuse the memory of the one before, and a raster triangle the
       // setup failed to write would still hold the reference's copy.
+      const int teams[2] = {1, most};
       std::vector<Frame> gpu;
-      for (int team : {1, most}) {
+      for (int team : teams) {
         setGpuSetupOnHostForTests(team);
         gpu.push_back(renderFrame(c.scene, c.cam, rs));
       }
@@ -395,7 +396,7 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
       for (uint32_t id : ref.ids) covered += id != 0;
       CHECK(covered > 0);
       for (size_t k = 0; k < gpu.size(); ++k) {
-        INFO(c.name << ", " << toString(m) << ", teams of " << (k == 0 ? 1 : most));
+        INFO(c.name << ", " << toString(m) << ", teams of " << teams[k]);
         const Frame& f = gpu[k];
         CHECK(f.stats.rasterTris == ref.stats.rasterTris);
         CHECK(f.stats.rasterWork == ref.stats.rasterWork);
