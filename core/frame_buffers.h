@@ -54,6 +54,7 @@ struct FrameBuffers {
   DView<uint32_t> clipBlocks;  // the same triangles' visbuffer work items (GPUs, count pass -> write)
   DView<RasterTri> tris;     // raster triangles
   DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work (visbuffer: its first item)
+  DView<uint64_t> workHint;    // visbuffer: the raster triangle of every kWorkHintItems-th item, tagged by frame (raster_common.h)
   DView<uint32_t> blockDepth;  // visbuffer method: per 8x8 block, a bound on its pixels' depth
   DView<uint32_t> blockFrame;  // visbuffer and naive methods: per 8x8 block, the last frame (FrameUniforms::frame) that wrote a key in it
   DView<uint32_t> work;        // method-specific work list (bin entries)

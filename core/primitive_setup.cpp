@@ -319,6 +319,7 @@ struct WriteChunks {
   int32_t lookBackMode;
   DView<uint32_t> chunkOffset, chunkBlocks, clipBlocks;
   DView<uint8_t> clipCount;
+  DView<uint64_t> workHint;  // with blocks (raster_common.h)
 
   static size_t scratchBytes() {
     // Kept under 32 KiB: at 32.1 KiB (a second scan array) the H100's setup
@@ -451,13 +452,19 @@ struct WriteChunks {
       const uint32_t o = base + offset[i];
       if (o < capacity) dst[size_t(o) * kTriQuads + j] = staged[i * kStageStride + j];
     });
-    // 5. Each raster triangle's first item; clipped triangles (rare) are
-    //    clipped again and their pieces written directly.
+    // 5. Each raster triangle's first item (and the hints among them);
+    //    clipped triangles (rare) are clipped again and their pieces written
+    //    directly.
+    const uint32_t hints = uint32_t(workHint.extent(0)), tag = blocks ? frame(0).frame : 0u;
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
       uint32_t o = base + offset[i];
       uint32_t item = itemBase + (blocks ? blk[i] : 0u);
       if (!(count[i] & kClippedFlag)) {
-        if (blocks && count[i] == 1u && o < capacity) workOffset(o) = item;
+        if (blocks && count[i] == 1u && o < capacity) {
+          workOffset(o) = item;
+          const uint32_t end = itemBase + (i + 1 < len ? blk[i + 1] : blk[len - 1] + shared[3]);
+          markWorkHints(workHint.data(), hints, tag, item, end, o);
+        }
         return;
       }
       uint32_t vi[3];
@@ -467,8 +474,12 @@ struct WriteChunks {
         if (o < capacity) {
           tris(o) = rt;
           uint32_t bw;
-          if (blocks) workOffset(o) = item;
-          item += blocks ? visBlocksOf(rt, bw) : 0u;
+          if (blocks) {
+            workOffset(o) = item;
+            const uint32_t end = item + visBlocksOf(rt, bw);
+            markWorkHints(workHint.data(), hints, tag, item, end, o);
+            item = end;
+          }
         }
         ++o;
       });
@@ -489,18 +500,23 @@ struct WriteChunksHost {
   uint32_t capacity, numTris;
   int32_t single;  // one chunk: offset 0, and its count is the total (as WriteChunks)
   int32_t blocks;  // number the visbuffer's work items
+  DView<uint64_t> workHint;  // with blocks (raster_common.h)
+  DView<FrameUniforms> frame;
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
     const uint32_t first = chunk * kSetupChunk, len = chunkLength(chunk, numTris);
     const uint32_t base = single ? 0u : chunkOffset(chunk);
     uint32_t o = base, item = single || !blocks ? 0u : chunkBlocks(chunk);
+    const uint32_t tag = blocks ? frame(0).frame : 0u;
     auto store = [&](const RasterTri& rt) {
       if (o < capacity) {
         tris(o) = rt;
         if (blocks) {
           uint32_t bw;
           workOffset(o) = item;
-          item += visBlocksOf(rt, bw);
+          const uint32_t end = item + visBlocksOf(rt, bw);
+          markWorkHints(workHint.data(), uint32_t(workHint.extent(0)), tag, item, end, o);
+          item = end;
         }
       }
       ++o;
@@ -543,7 +559,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
     }
     Kokkos::parallel_for("rast::setup::write", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
                          Host{c, f.chunkOffset, f.chunkBlocks, f.counters, f.workOffset, f.clipCount, f.tris, f.triCapacity,
-                              numTris, single ? 1 : 0, blocks ? 1 : 0});
+                              numTris, single ? 1 : 0, blocks ? 1 : 0, f.workHint, f.uniforms});
   } else {
     // The look-back's wait grows with the number of chunks (one thread walks
     // back, kLookBackBatch chunks a step): beyond kSetupLookBackMaxChunks a
@@ -564,7 +580,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
                              .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
                          WriteChunks{c, f.setupStatus, f.counters, f.workOffset, f.uniforms, f.tris, f.triCapacity, numTris,
                                      chunks, blocks ? 1 : 0, lookBack ? 1 : 0, f.chunkOffset, f.chunkBlocks, f.clipBlocks,
-                                     f.clipCount});
+                                     f.clipCount, blocks ? f.workHint : DView<uint64_t>()});
   }
 }
 
@@ -588,7 +604,13 @@ void setGpuSetupOnHostForTests(int teamSize) { gpuSetupTeamsForTests = teamSize 
 void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks) {
   const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
   ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
-  if (numberBlocks) ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
+  if (numberBlocks) {
+    ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
+    // A hint per raster triangle, and a few more for scenes of large ones;
+    // zeroed: no frame's tag yet.
+    if (f.workHint.extent(0) < size_t(f.triCapacity) + 256)
+      f.workHint = allocZeroed<uint64_t>("frame.workHint", size_t(f.triCapacity) + 256);
+  }
   SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
   if (chunks > 0 && !kOnDevice && gpuSetupTeamsForTests > 0) {

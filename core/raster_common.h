@@ -187,6 +187,19 @@ KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t e1,
   const float l1 = float(e2) * t.invArea, l2 = float(e0) * t.invArea;
   return clamp01(t.z[0] + (l1 * (t.z[1] - t.z[0]) + l2 * (t.z[2] - t.z[0])));
 }
+// depthAt's terms held in registers: the same operations, so the same bits.
+// Through a RasterTri reference a GPU reloaded the four values (and redid
+// both differences) at every covered pixel, since the atomic minimum before
+// might have changed them for all the compiler knew.
+struct DepthTerms {
+  float z0, d1, d2, ia;
+  KOKKOS_INLINE_FUNCTION explicit DepthTerms(const RasterTri& t)
+      : z0(t.z[0]), d1(t.z[1] - t.z[0]), d2(t.z[2] - t.z[0]), ia(t.invArea) {}
+  KOKKOS_INLINE_FUNCTION float at(int64_t e0, int64_t e2) const {
+    const float l1 = float(e2) * ia, l2 = float(e0) * ia;
+    return clamp01(z0 + (l1 * d1 + l2 * d2));
+  }
+};
 
 // A triangle's depth range over its pixels, widened so that the rounding of
 // depthAt() cannot leave it: the interpolation is a convex combination of the
@@ -223,10 +236,97 @@ inline uint32_t visBlocks(const Viewport& vp, int32_t& blocksPerRow) {  // block
   blocksPerRow = (vp.width + (1 << kVisBlockShift) - 1) >> kVisBlockShift;
   return uint32_t(blocksPerRow) * uint32_t((vp.height + (1 << kVisBlockShift) - 1) >> kVisBlockShift);
 }
+// Every kWorkHintItems-th item's raster triangle (f.workHint, written by the
+// setup with workOffset): an item's triangle lies between the hints around
+// it, so the raster's search covers the few triangles of those items instead
+// of all of them (17 dependent loads an item on a scene of 100,000 raster
+// triangles; engine's raster took 65 us with them, 55 without, on an H100).
+// A hint holds the frame (FrameUniforms::frame) that wrote it above the
+// triangle, so that one left from another frame is never used, and nothing
+// is cleared between frames (the buffer starts zeroed; frames count from 1).
+// That lets a large triangle write the first and last hints of its items
+// only: where its interior's are stale, the search covers every triangle,
+// as it did without hints, and costs little, since a frame of large
+// triangles has few. (All of them cost bigtri's setup 2.4 us, a single
+// thread writing a clipped piece's hundreds.)
+constexpr int kWorkHintShift = 8;
+constexpr uint32_t kWorkHintItems = 1u << kWorkHintShift;
+constexpr uint32_t kWorkHintsWritten = 4;  // a triangle spanning more writes its first and last only
+KOKKOS_INLINE_FUNCTION uint64_t workHintWord(uint32_t frame, uint32_t tri) { return uint64_t(frame) << 32 | tri; }
+// Records raster triangle `tri`, whose items are [first, end), in the hints.
+KOKKOS_INLINE_FUNCTION void markWorkHints(uint64_t* hint, uint32_t hints, uint32_t frame, uint32_t first, uint32_t end,
+                                          uint32_t tri) {
+  if (end <= first) return;
+  const uint64_t h0 = (uint64_t(first) + kWorkHintItems - 1) >> kWorkHintShift;
+  const uint64_t h1 = (uint64_t(end) + kWorkHintItems - 1) >> kWorkHintShift;  // past the last
+  const uint64_t stop = h1 < hints ? h1 : hints;
+  const uint64_t word = workHintWord(frame, tri);
+  if (h1 - h0 > kWorkHintsWritten) {
+    if (h0 < hints) hint[h0] = word;
+    if (h1 - 1 < hints) hint[h1 - 1] = word;
+    return;
+  }
+  for (uint64_t h = h0; h < stop; ++h) hint[h] = word;
+}
+// Bounds [lo, hi) for the search of item w among n raster triangles, from
+// this frame's hints (lo: a triangle at or before w's, the caller's).
+KOKKOS_INLINE_FUNCTION void workHintBounds(const uint64_t* hint, uint32_t hints, uint32_t frame, uint32_t total,
+                                           uint32_t n, uint32_t w, uint32_t& lo, uint32_t& hi) {
+  hi = n;
+  const uint32_t h = w >> kWorkHintShift;
+  if (h >= hints || n == 0) return;
+  const uint64_t a = hint[h];
+  if (uint32_t(a >> 32) == frame) {
+    const uint32_t t = uint32_t(a) < n ? uint32_t(a) : n - 1;
+    lo = t > lo ? t : lo;
+  }
+  if (h + 1 < hints && (uint64_t(h + 1) << kWorkHintShift) < total) {
+    const uint64_t b = hint[h + 1];
+    if (uint32_t(b >> 32) == frame) hi = uint32_t(b) < n ? uint32_t(b) + 1 : n;
+  }
+  if (hi <= lo) hi = lo + 1;
+}
+
 KOKKOS_INLINE_FUNCTION uint32_t visBlocksOf(const RasterTri& t, uint32_t& bw) {
   bw = uint32_t((t.maxX >> kVisBlockShift) - (t.minX >> kVisBlockShift) + 1);
   const uint32_t bh = uint32_t((t.maxY >> kVisBlockShift) - (t.minY >> kVisBlockShift) + 1);
   return bw * bh;
+}
+
+// What rasterRect saw (single sample only): the pixels the triangle covers,
+// and a bound on the depth bits of every pixel of the rectangle after it, from
+// the keys it read and its own (keys only ever decrease).
+struct RectResult {
+  uint32_t covered = 0, maxDepthBits = 0;
+};
+
+// One row of a single-sample rectangle: pixels 0 .. last (at most
+// kRasterRowGroup) from `row` on, whose keys `cur` holds, with the edge values
+// e0, e1, e2 at the first. Inside means E_i + bias_i > 0, that is
+// E_i > nb_i = -bias_i: compared against that, no bias is added to the 64-bit
+// values at every pixel.
+KOKKOS_FORCEINLINE_FUNCTION void rasterRow(const Edges& e, const DepthTerms& dz, const int64_t (&nb)[3], uint32_t index,
+                                           int64_t e0, int64_t e1, int64_t e2, int32_t last,
+                                           const uint64_t (&cur)[kRasterRowGroup], uint64_t* row, RectResult& res) {
+  for (int k = 0; k < kRasterRowGroup; ++k) {
+    if (k > last) break;
+    uint64_t after = cur[k];
+    if (e0 > nb[0] && e1 > nb[1] && e2 > nb[2]) {  // e.inside(e0, e1, e2)
+      const uint64_t key = visKey(dz.at(e0, e2), index);
+      // The plain read only skips atomics that could not win; the atomic
+      // minimum alone decides, so the result is independent of ordering.
+      if (key < cur[k]) {
+        Kokkos::atomic_fetch_min(&row[k], key);
+        after = key;
+      }
+      ++res.covered;
+    }
+    const uint32_t bits = uint32_t(after >> 32);
+    res.maxDepthBits = bits > res.maxDepthBits ? bits : res.maxDepthBits;
+    e0 += e.A[0];
+    e1 += e.A[1];
+    e2 += e.A[2];
+  }
 }
 
 // Depth-tests raster triangle `index` against the visibility buffer over the
@@ -237,9 +337,6 @@ KOKKOS_INLINE_FUNCTION uint32_t visBlocksOf(const RasterTri& t, uint32_t& bw) {
 // What rasterRect saw (single sample only): the pixels the triangle covers,
 // and a bound on the depth bits of every pixel of the rectangle after it, from
 // the keys it read and its own (keys only ever decrease).
-struct RectResult {
-  uint32_t covered = 0, maxDepthBits = 0;
-};
 KOKKOS_INLINE_FUNCTION RectResult rasterRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0, int32_t x1,
                                            int32_t y0, int32_t y1, uint64_t* vis, int32_t width, const SamplePattern& sp) {
   if (sp.count > 1) {
@@ -269,6 +366,8 @@ KOKKOS_INLINE_FUNCTION RectResult rasterRect(const RasterTri& t, const Edges& e,
   // three 64-bit multiplications a row were a fifth of the raster's
   // instructions on a plain model (Nsight Compute, H100).
   RectResult res;
+  const DepthTerms dz(t);
+  const int64_t nb[3] = {-e.bias[0], -e.bias[1], -e.bias[2]};
   int64_t r0 = e.eval(0, x0, y0), r1 = e.eval(1, x0, y0), r2 = e.eval(2, x0, y0);
   for (int32_t y = y0; y <= y1; ++y, r0 += e.B[0], r1 += e.B[1], r2 += e.B[2]) {
     int64_t e0 = r0, e1 = r1, e2 = r2;
@@ -276,26 +375,36 @@ KOKKOS_INLINE_FUNCTION RectResult rasterRect(const RasterTri& t, const Edges& e,
     for (int32_t xs = x0; xs <= x1; xs += kRasterRowGroup) {
       uint64_t cur[kRasterRowGroup];
       for (int k = 0; k < kRasterRowGroup; ++k) cur[k] = xs + k <= x1 ? row[xs + k] : 0u;
-      for (int k = 0; k < kRasterRowGroup; ++k) {
-        if (xs + k > x1) break;
-        uint64_t after = cur[k];
-        if (e.inside(e0, e1, e2)) {
-          const uint64_t key = visKey(depthAt(t, e0, e1, e2), index);
-          // The plain read only skips atomics that could not win; the atomic
-          // minimum alone decides, so the result is independent of ordering.
-          if (key < cur[k]) {
-            Kokkos::atomic_fetch_min(&row[xs + k], key);
-            after = key;
-          }
-          ++res.covered;
-        }
-        const uint32_t bits = uint32_t(after >> 32);
-        res.maxDepthBits = bits > res.maxDepthBits ? bits : res.maxDepthBits;
-        e0 += e.A[0];
-        e1 += e.A[1];
-        e2 += e.A[2];
-      }
+      rasterRow(e, dz, nb, index, e0, e1, e2, x1 - xs, cur, row + xs, res);
+      e0 += e.A[0] * kRasterRowGroup;
+      e1 += e.A[1] * kRasterRowGroup;
+      e2 += e.A[2] * kRasterRowGroup;
     }
+  }
+  return res;
+}
+
+// rasterRect for a single-sample rectangle no wider than a row group (one
+// 8x8 block of the visbuffer raster), whose next row's keys are read before
+// this row's are tested: a thread then waits for memory once per block, not
+// once per row (large triangles' blocks are eight rows of loads that hit L2).
+KOKKOS_INLINE_FUNCTION RectResult rasterNarrowRect(const RasterTri& t, const Edges& e, uint32_t index, int32_t x0,
+                                                 int32_t x1, int32_t y0, int32_t y1, uint64_t* vis, int32_t width) {
+  RectResult res;
+  const DepthTerms dz(t);
+  const int64_t nb[3] = {-e.bias[0], -e.bias[1], -e.bias[2]};
+  const int32_t last = x1 - x0;  // below kRasterRowGroup
+  int64_t r0 = e.eval(0, x0, y0), r1 = e.eval(1, x0, y0), r2 = e.eval(2, x0, y0);
+  uint64_t* row = vis + int64_t(y0) * width + x0;
+  uint64_t cur[kRasterRowGroup];
+  for (int k = 0; k < kRasterRowGroup; ++k) cur[k] = k <= last ? row[k] : 0u;
+  for (int32_t y = y0; y <= y1; ++y, r0 += e.B[0], r1 += e.B[1], r2 += e.B[2]) {
+    uint64_t* next = row + width;
+    uint64_t ahead[kRasterRowGroup];
+    for (int k = 0; k < kRasterRowGroup; ++k) ahead[k] = y < y1 && k <= last ? next[k] : 0u;
+    rasterRow(e, dz, nb, index, r0, r1, r2, last, cur, row, res);
+    for (int k = 0; k < kRasterRowGroup; ++k) cur[k] = ahead[k];
+    row = next;
   }
   return res;
 }

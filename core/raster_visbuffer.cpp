@@ -7,7 +7,9 @@
 //
 // The items are numbered by the setup as it writes the triangles
 // (primitive_setup.cpp): each triangle's first item, in workOffset; an item
-// finds its triangle by a binary search there.
+// finds its triangle by a binary search there, between the search hints
+// (workHint, raster_common.h) around it. A block's rows are tested by
+// rasterNarrowRect, which reads the next row's keys before it tests a row's.
 //
 // Seen from inside a dense model, most (triangle, block) items lie behind
 // walls drawn earlier. Each 8x8 block keeps a bound on the depth of all its
@@ -34,11 +36,14 @@
 namespace rast {
 namespace {
 
+static_assert((1 << kVisBlockShift) <= kRasterRowGroup, "a block's rows fit rasterNarrowRect");
+
 // Grid-stride loop over the work items: their number is only known on the
 // device, so the launch is sized to fill the machine instead.
 struct RasterBlocks {
   DView<RasterTri> tris;
   DView<uint32_t> counters, workOffset, blockDepth, blockFrame;
+  DView<uint64_t> workHint;
   DView<FrameUniforms> frame;
   DView<uint64_t> vis;
   int32_t width, blocksPerRow;
@@ -49,9 +54,12 @@ struct RasterBlocks {
     const uint32_t total = counters(kRasterWork);
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     const uint32_t thisFrame = frame(0).frame;
+    const uint32_t hints = uint32_t(workHint.extent(0));
     uint32_t i = 0;  // a thread's items come in order: its last triangle bounds the search
     for (uint32_t w = thread; w < total; w += stride) {
-      i = findRange(workOffset, n, w, i);
+      uint32_t hi;
+      workHintBounds(workHint.data(), hints, thisFrame, total, n, w, i, hi);
+      i = findRange(workOffset, hi, w, i);
       const RasterTri& t = tris(i);
       uint32_t bw;
       const uint32_t local = w - workOffset(i);
@@ -71,7 +79,7 @@ struct RasterBlocks {
       const uint32_t b = uint32_t(by) * uint32_t(blocksPerRow) + uint32_t(bx);
       const DepthBounds z = depthBounds(t);
       if (floatBits(z.lo) > blockDepth(b)) continue;  // behind every pixel of the block
-      const RectResult r = rasterRect(t, e, i, x0, x1, y0, y1, vis.data(), width, samples);
+      const RectResult r = rasterNarrowRect(t, e, i, x0, x1, y0, y1, vis.data(), width);
       if (r.covered && blockFrame(b) != thisFrame) blockFrame(b) = thisFrame;  // every writer stores the same value
       // Whole blocks only: the bound must hold for all 64 pixels.
       const bool whole = x1 - x0 == (1 << kVisBlockShift) - 1 && y1 - y0 == (1 << kVisBlockShift) - 1;
@@ -94,7 +102,7 @@ void rasterVisBuffer(FrameBuffers& f) {
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
   const uint32_t threads = persistentThreads();
   Kokkos::parallel_for("rast::raster::visbuffer::blocks", lightweight(Policy(0, threads)),
-                       RasterBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.blockFrame, f.uniforms, f.vis,
+                       RasterBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.blockFrame, f.workHint, f.uniforms, f.vis,
                                     f.vp.width, bx, f.triCapacity, threads, f.vp.samples});
 }
 

@@ -19,7 +19,7 @@ namespace rast {
 
 size_t FrameBuffers::bytes() const {
   return viewBytes(uploaded) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(chunkBlocks) + viewBytes(setupStatus) + viewBytes(clipCount) + viewBytes(clipBlocks) +
-         viewBytes(tris) + viewBytes(workOffset) + viewBytes(blockDepth) + viewBytes(blockFrame) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
+         viewBytes(tris) + viewBytes(workOffset) + viewBytes(workHint) + viewBytes(blockDepth) + viewBytes(blockFrame) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
 
@@ -75,7 +75,7 @@ const Scene& admitScene(const Scene& s, uint64_t budget) {
                     std::to_string(s.indices.size() / 3) + " triangles, " + std::to_string(texels) + " texels)",
                 sceneBytes);
   ledger.charge("the raster triangle buffer (" + std::to_string(s.triangleCount()) + " drawn triangles)",
-                mulSat(uint64_t(s.triangleCount()) + 1024, sizeof(RasterTri) + 2 * sizeof(uint32_t)));
+                mulSat(uint64_t(s.triangleCount()) + 1024, sizeof(RasterTri) + 3 * sizeof(uint32_t)));
   ledger.charge("the vertex stage buffers (" + std::to_string(drawnVertices(s)) + " drawn vertices)",
                 mulSat(drawnVertices(s), sizeof(float4) + sizeof(SnapVert) + 2 * sizeof(float3)));
   return s;
@@ -188,6 +188,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   if (frameNumber_ == ~0u) {  // tags would repeat: start again from zeroed status
     frameNumber_ = 0;
     frame_.setupStatus = DView<uint64_t>();
+    frame_.workHint = DView<uint64_t>();
   }
   u.frame = ++frameNumber_;
   // The upload: the uniforms, then (few draws) the draws' matrices.
@@ -337,7 +338,7 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     MemoryLedger ledger(budget_);
     ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.tris));
     ledger.check("the raster triangle buffer (" + std::to_string(need) + " triangles after clipping)",
-                 mulSat(uint64_t(need) + need / 8, sizeof(RasterTri) + sizeof(uint32_t)));
+                 mulSat(uint64_t(need) + need / 8, sizeof(RasterTri) + 2 * sizeof(uint32_t)));
     frame_.triCapacity = need + need / 8;
     frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
     fit = false;

@@ -10,6 +10,7 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <glm/gtc/matrix_transform.hpp>
 #include <random>
 
 using namespace rast;
@@ -411,4 +412,53 @@ TEST_CASE("a rectangle outside a triangle's edges holds none of its pixels", "[r
   CHECK(skipped > 1000);
   CHECK(kept > 1000);
   CHECK(wrong == 0);
+}
+
+// The visbuffer raster finds each work item's triangle between search hints
+// the setup writes (raster_common.h, workHint): every kWorkHintItems-th
+// item's triangle, tagged with the frame. A large triangle writes only the
+// first and last hints of its items, so its interior's are whatever an
+// earlier frame (or the zeroed buffer) left: the tag must reject them. Large
+// triangles between small ones, drawn by one renderer from three cameras
+// that move the items, must give the ids and depth of the naive raster.
+TEST_CASE("the visbuffer raster finds every item's triangle: large triangles among small ones, frame after frame",
+          "[raster][hints]") {
+  const int W = 640, H = 480;
+  std::vector<rast::float3> p;
+  std::vector<uint32_t> idx;
+  auto tri = [&](double ax, double ay, double bx, double by, double cx, double cy, double z) {
+    const uint32_t b = uint32_t(p.size());
+    p.push_back(windowToNdc(ax, ay, z, W, H));
+    p.push_back(windowToNdc(bx, by, z, W, H));
+    p.push_back(windowToNdc(cx, cy, z, W, H));
+    idx.insert(idx.end(), {b, b + 1, b + 2});
+  };
+  for (int i = 0; i < 60; ++i) tri(8 + 10 * i, 4, 15 + 10 * i, 5, 10 + 10 * i, 12, 0.1);  // small, in front
+  tri(10, 20, 630, 30, 320, 470, 0.5);          // about 4,300 items: 17 hints, 15 of them left unwritten
+  for (int i = 0; i < 40; ++i) tri(20 + 15 * i, 440, 31 + 15 * i, 441, 25 + 15 * i, 452, 0.2);
+  tri(40, 100, 300, 110, 170, 300, 0.3);        // about 1,000 items: 4 hints, all written
+  tri(330, 380, 600, 60, 620, 400, 0.6);        // large again, partly behind the first
+  for (int i = 0; i < 30; ++i) tri(100 + 12 * i, 200, 109 + 12 * i, 202, 104 + 12 * i, 210, 0.05);
+  const Scene s = trianglesScene(p, idx);
+  RenderSettings rs;
+  rs.width = W;
+  rs.height = H;
+  rs.wantPrimId = true;
+  rs.wantDepth = true;
+  Renderer r(s);
+  int covered = 0;
+  for (const double shift : {0.0, 37.0, -61.0}) {
+    Camera cam = identityCamera();
+    cam.viewProjOverride = glm::translate(glm::dmat4(1.0), glm::dvec3(2.0 * shift / W, 1.4 * shift / H, 0.0));
+    INFO("shift " << shift);
+    rs.raster = RasterMethod::Naive;
+    const Frame ref = renderFrame(s, cam, rs);
+    rs.raster = RasterMethod::VisBuffer;
+    const FrameStats st = r.render(cam, rs);
+    REQUIRE(st.rasterWork > 6 * kWorkHintItems);  // the large triangles span many hints
+    REQUIRE(r.primIdsBottomUp() == ref.ids);
+    REQUIRE(r.depthBottomUp() == ref.depth);
+    for (uint32_t id : ref.ids) covered += id != 0;
+  }
+  CHECK(covered > W * H);  // most of the frame, three times
 }
