@@ -45,6 +45,21 @@ KOKKOS_INLINE_FUNCTION uint32_t clipCode(const float4& p, float gx, float gy) {
   return code;
 }
 
+// Whether a triangle lies wholly beyond one side plane of the viewport itself
+// (|x/w| <= 1, |y/w| <= 1; the side planes above are the guard band's, far
+// outside it). Each plane's distance is linear in clip space, so the whole
+// triangle is beyond it, and every part of it with w > 0 (all that is left
+// after the near and far planes) projects outside the viewport: clipping it
+// would give pieces that cover no pixel centre. A rounded distance is
+// negative only where the exact one is.
+KOKKOS_INLINE_FUNCTION bool outsideViewportSide(const float4& a, const float4& b, const float4& c) {
+  for (int k = 2; k < 6; ++k)
+    if (planeDistance(k, a, 1.0f, 1.0f) < 0.0f && planeDistance(k, b, 1.0f, 1.0f) < 0.0f &&
+        planeDistance(k, c, 1.0f, 1.0f) < 0.0f)
+      return true;
+  return false;
+}
+
 // Clips the triangle in v[0..2] in place; returns the vertex count of the
 // resulting convex polygon (0 when nothing is left, 3 when untouched).
 //

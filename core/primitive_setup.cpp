@@ -148,6 +148,11 @@ KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, 
   }
   if ((any & kCodeNonFinite) || (all & 0x3fu)) return 0;  // not drawable, or wholly outside one plane
   if (!(any & 0x3fu)) return 0;                           // inside every plane, but some w <= 0
+  // Beyond a side of the viewport: nothing to clip. Seen from inside a model,
+  // most triangles that cross the near plane are (engine_inside: 990 of 1,000
+  // left no piece), and clipping each, twice, by one thread while its team
+  // waits was most of that view's setup.
+  if (outsideViewportSide(c.clip(vi[0]), c.clip(vi[1]), c.clip(vi[2]))) return 0;
   clipped = true;
   if (clipCounts) {
     if (blocks && clipBlocks) *blocks = clipBlocks[t];

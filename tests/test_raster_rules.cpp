@@ -283,6 +283,49 @@ TEST_CASE("a triangle behind the camera renders nothing", "[raster][clip]") {
   for (uint32_t id : f.ids) REQUIRE(id == 0);
 }
 
+// The setup skips clipping a triangle that lies beyond one side of the
+// viewport (outsideViewportSide in clip.h): clipping it would leave pieces
+// that cover no pixel centre. The test is on the viewport's own planes, not
+// the guard band's, in clip space, behind the camera too.
+TEST_CASE("triangles beyond a side of the viewport are skipped before clipping, and only those", "[raster][clip]") {
+  using rast::float4;
+  // Beyond each side: x > w, x < -w, y > w, y < -w at all three corners,
+  // one corner behind the camera (w < 0), as a triangle crossing the near
+  // plane at the side of the view is.
+  CHECK(outsideViewportSide(float4{2, 0, 0, 1}, float4{3, 1, 0, 2}, float4{1, 0, 0, -1}));
+  CHECK(outsideViewportSide(float4{-2, 0, 0, 1}, float4{-3, 1, 0, 2}, float4{-1, 0, 0, -1}));
+  CHECK(outsideViewportSide(float4{0, 2, 0, 1}, float4{1, 3, 0, 2}, float4{0, 1, 0, -1}));
+  CHECK(outsideViewportSide(float4{0, -2, 0, 1}, float4{1, -3, 0, 2}, float4{0, -1, 0, -1}));
+  // Not beyond: one corner inside, a corner on the plane itself (x/w = 1 is
+  // the viewport's edge), or beyond two different sides.
+  CHECK_FALSE(outsideViewportSide(float4{2, 0, 0, 1}, float4{3, 1, 0, 2}, float4{0.5f, 0, 0, 1}));
+  CHECK_FALSE(outsideViewportSide(float4{2, 0, 0, 1}, float4{3, 1, 0, 2}, float4{1, 0, 0, 1}));
+  CHECK_FALSE(outsideViewportSide(float4{2, 0, 0, 1}, float4{0, 2, 0, 1}, float4{-2, 0, 0, 1}));
+  // In a frame: triangles crossing the near plane, one beyond the right edge
+  // of the view (skipped: draws nothing) and one across it (clipped: draws
+  // its visible part, as many pixels as with the skip left out would).
+  Camera cam;
+  cam.eye = {0, 0, 0};
+  cam.target = {0, 0, -1};
+  cam.znear = 0.5;
+  cam.zfar = 100;
+  RenderSettings rs;
+  rs.width = 96;
+  rs.height = 64;
+  for (RasterMethod m : allRasterMethods()) {
+    rs.raster = m;
+    INFO(toString(m));
+    const Frame beyond = renderFrame(trianglesScene({{3, -1, -2}, {4, 1, -2}, {3, 0, 2}}, {0, 1, 2}), cam, rs);
+    CHECK(beyond.stats.rasterTris == 0);
+    for (uint32_t id : beyond.ids) REQUIRE(id == 0);
+    const Frame across = renderFrame(trianglesScene({{-0.2f, -1, -2}, {4, 1, -2}, {0.5f, 0, 2}}, {0, 1, 2}), cam, rs);
+    CHECK(across.stats.rasterTris >= 1);
+    int covered = 0;
+    for (uint32_t id : across.ids) covered += id == 1;
+    CHECK(covered > 200);
+  }
+}
+
 TEST_CASE("huge coordinates do not overflow the fixed-point setup", "[raster][clip]") {
   // One triangle far larger than the guard band, around the view direction.
   const Scene s = trianglesScene({{-1e6f, -1e6f, -10}, {1e6f, -1e6f, -10}, {0, 1e6f, -10}}, {0, 1, 2});
