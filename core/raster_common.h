@@ -183,12 +183,8 @@ KOKKOS_INLINE_FUNCTION bool rectOutside(const Edges& e, int32_t x0, int32_t x1, 
 // Window depth at a covered pixel, from the exact (unbiased) edge values.
 // Written as z0 + l1 (z1 - z0) + l2 (z2 - z0): exact on flat triangles and
 // closer to how hardware interpolates depth than the three-term sum.
-KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t e1, int64_t e2) {
-  const float l1 = float(e2) * t.invArea, l2 = float(e0) * t.invArea;
-  return clamp01(t.z[0] + (l1 * (t.z[1] - t.z[0]) + l2 * (t.z[2] - t.z[0])));
-}
-// depthAt's terms held in registers: the same operations, so the same bits.
-// Through a RasterTri reference a GPU reloaded the four values (and redid
+// DepthTerms holds the terms, for a loop over pixels to keep in registers:
+// through a RasterTri reference a GPU reloaded the four values (and redid
 // both differences) at every covered pixel, since the atomic minimum before
 // might have changed them for all the compiler knew.
 struct DepthTerms {
@@ -200,6 +196,9 @@ struct DepthTerms {
     return clamp01(z0 + (l1 * d1 + l2 * d2));
   }
 };
+KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t /*e1*/, int64_t e2) {
+  return DepthTerms(t).at(e0, e2);
+}
 
 // A triangle's depth range over its pixels, widened so that the rounding of
 // depthAt() cannot leave it: the interpolation is a convex combination of the
