@@ -170,9 +170,13 @@ struct Shade {
   // Colour of a fragment of f's triangle at a sample of pixel (X, Y), for display:
   // linear light for the lit and depth modes (sRGB-encoded later), raw values
   // for the diagnostic modes (normals, uv, mip level).
+  // kLit: the caller knows the frame is lit (Lambert or Blinn-Phong) with a
+  // nearest or bilinear filter (litOnly()), and the other modes' code is left
+  // out of its kernel.
+  template <bool kLit = false>
   KOKKOS_INLINE_FUNCTION float4 shadeFragment(const TriFrag& f, int32_t X, int32_t Y, int32_t ox, int32_t oy, float depth,
                                               float3* normalOutV, float3* posOutV = nullptr) const {
-    if (p.mode == ShadingMode::Depth) {
+    if (!kLit && p.mode == ShadingMode::Depth) {
       const float lo = depthRange().min_val, hi = depthRange().max_val;
       const float g = hi > lo ? 1.0f - (eyeDepth(depth) - lo) / (hi - lo) : 1.0f;
       return float4{g, g, g, 1.0f};
@@ -183,7 +187,7 @@ struct Shade {
     float b0, b1, b2;
     bary(t, e, X, Y, ox, oy, b0, b1, b2);
 
-    if (p.mode == ShadingMode::TexCoord) {
+    if (!kLit && p.mode == ShadingMode::TexCoord) {
       // Texture coordinates as raw red/green (fractional part); black without any.
       if (!hasUV) return float4{0.0f, 0.0f, 0.0f, 1.0f};
       const float2 uv = uvAt(f, b0, b1, b2);
@@ -194,7 +198,7 @@ struct Shade {
     const float3 P = f.pos[0] * b0 + f.pos[1] * b1 + f.pos[2] * b2;
     if (normalOutV) *normalOutV = N;
     if (posOutV) *posOutV = P;
-    if (p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
+    if (!kLit && p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
       return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, 1.0f};
 
     float4 base4 = f.baseColor;
@@ -203,7 +207,7 @@ struct Shade {
       const float2 uv = uvAt(f, b0, b1, b2);
       const TextureGPU& tex = f.tex;
       float4 tc;
-      if (p.filter == TexFilter::Trilinear || p.mode == ShadingMode::MipLevel) {
+      if (!kLit && (p.filter == TexFilter::Trilinear || p.mode == ShadingMode::MipLevel)) {
         // Analytic derivatives: the same plane one pixel to the right and up.
         float c0, c1, c2;
         bary(t, e, X, Y, ox + kSubOne, oy, c0, c1, c2);
@@ -219,7 +223,7 @@ struct Shade {
       }
       base4 = base4 * tc;
     }
-    if (p.mode == ShadingMode::MipLevel) {
+    if (!kLit && p.mode == ShadingMode::MipLevel) {
       const float l = lod / 8.0f;  // level 0 black, level 8 full red
       return float4{l, 0.0f, 0.0f, 1.0f};
     }
@@ -242,8 +246,19 @@ struct Shade {
     return float4{rgb.x, rgb.y, rgb.z, base4.w};
   }
 
+  template <bool kLit = false>
   KOKKOS_INLINE_FUNCTION uint32_t display(float4 c) const {
-    return isRawShading(p.mode) ? packRaw8(c) : packSrgb8Packed(c, encodePacked);
+    return !kLit && isRawShading(p.mode) ? packRaw8(c) : packSrgb8Packed(c, encodePacked);
+  }
+
+  // Whether a frame may take the kernel compiled for lit shading alone
+  // (ShadeInterleaved<true>): Lambert or Blinn-Phong, nearest or bilinear
+  // texturing, straight to 8-bit colour (ids, depth and normals as asked).
+  // Every other mode's code (depth, diagnostics, trilinear derivatives, the
+  // float film, SSAO's geometry) is left out of that kernel.
+  bool litOnly() const {
+    return (p.mode == ShadingMode::Lambert || p.mode == ShadingMode::BlinnPhong) && p.filter != TexFilter::Trilinear &&
+           !p.floatOut && !p.wantGeom;
   }
 
   // SSAO's input: view-space normal and depth of the surface at the pixel (the
@@ -303,6 +318,7 @@ struct Shade {
     const uint32_t X = (tile - ty * cols) * kLanes + w % kLanes, Y = ty * uint32_t(kShadeInterleave);
     return Column{Y * uint32_t(width) + X, X, Y};
   }
+  template <bool kLit = false>
   KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
     // A key in a block the raster left alone this frame is clear: not read
     // (p.blockFrames), which saves most of the frame's reads behind a model.
@@ -321,7 +337,7 @@ struct Shade {
       keys[k] = tagged && k < rows ? vis(at.i + k * uint32_t(width)) : kClearKey;
     TriFrag f;
     for (uint32_t k = 0; k < rows; ++k)
-      shadeSingle(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[k]);
+      shadeSingle<kLit>(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[k]);
   }
 
   KOKKOS_INLINE_FUNCTION void use(uint32_t index, TriFrag& f) const {
@@ -338,6 +354,7 @@ struct Shade {
   }
 
   // One sample per pixel, its key already loaded.
+  template <bool kLit = false>
   KOKKOS_INLINE_FUNCTION void shadeSingle(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f,
                                           const uint64_t key0) const {
     // The next frame's clear, while the key is at hand (FrameBuffers::visClear);
@@ -348,13 +365,13 @@ struct Shade {
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
     if (idx0) use(idx0 - 1, f);
-    if (p.floatOut)
+    if (!kLit && p.floatOut)
       hdr(i) = idx0 ? shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
     else
-      color(i) = idx0 ? display(shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
+      color(i) = idx0 ? display<kLit>(shadeFragment<kLit>(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
                       : p.backgroundPacked;
     if (p.wantNormals) normalOut(i) = n0;
-    if (p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
+    if (!kLit && p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
   }
 
   KOKKOS_INLINE_FUNCTION void shadePixel(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f) const {
@@ -414,9 +431,10 @@ struct Shade {
 // The interleaved layout as a kernel of its own: compiled into one kernel with
 // the runs along rows, the shader spilled 400 bytes a thread under the register
 // cap (152 alone).
+template <bool kLit>
 struct ShadeInterleaved {
   Shade k;
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const { k.shadeInterleaved(uint32_t(item)); }
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const { k.shadeInterleaved<kLit>(uint32_t(item)); }
 };
 
 }  // namespace shading

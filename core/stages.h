@@ -48,6 +48,12 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool n
 // host's own. Images must not change (tests/test_cpu_paths.cpp). GPUs ignore it.
 void setGpuSetupOnHostForTests(int teamSize);
 
+// Tests: true makes the per-pixel shade kernel take its general form for
+// every frame, including the lit frames that normally take the kernel
+// compiled for lit shading alone (shade_fragment.h, Shade::litOnly), so that
+// the two can be compared; false restores the choice. Images must not change.
+void setGeneralShadeForTests(bool general);
+
 void clearVisibility(FrameBuffers& f);
 
 // Raster methods: each reads f.tris / f.counters(kRasterTris) and min-combines
