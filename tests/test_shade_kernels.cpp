@@ -41,7 +41,7 @@ void compareForms(const std::string& name, const Scene& s, const Camera& cam, Re
   CHECK(litPixels > size_t(rs.width) * rs.height / 16);  // a frame with something to shade
   CHECK(lit.primIdsBottomUp() == general.primIdsBottomUp());
   CHECK(lit.depthBottomUp() == general.depthBottomUp());
-  const std::vector<float3> n = lit.normalsBottomUp(), ng = general.normalsBottomUp();
+  const std::vector<rast::float3> n = lit.normalsBottomUp(), ng = general.normalsBottomUp();
   size_t normalDiffs = 0;
   for (size_t i = 0; i < n.size(); ++i)
     normalDiffs += n[i].x != ng[i].x || n[i].y != ng[i].y || n[i].z != ng[i].z;
