@@ -57,6 +57,8 @@ struct FrameBuffers {
   DView<uint64_t> workHint;    // visbuffer: the raster triangle of every kWorkHintItems-th item, tagged by frame (raster_common.h)
   DView<uint32_t> blockDepth;  // visbuffer method: per 8x8 block, a bound on its pixels' depth
   DView<uint32_t> blockFrame;  // visbuffer and naive methods: per 8x8 block, the last frame (FrameUniforms::frame) that wrote a key in it
+  DView<uint64_t> occCount;    // visbuffer: the setup's occluder list (OccluderList, raster_common.h): blocks << 32 | candidates; one word, zeroed by the raster
+  DView<uint32_t> occStart, occTri;  // per occluder candidate: its first block in the list, its raster triangle
   DView<uint32_t> work;        // method-specific work list (bin entries)
   DView<uint32_t> tileStart;   // binned method: first list entry of each tile
   DView<uint32_t> counters;
@@ -74,7 +76,7 @@ struct FrameBuffers {
   DView<uint32_t> primId;    // AOV, allocated on request
   DView<float3> normal;      // AOV, allocated on request
   Kokkos::View<Kokkos::MinMaxScalar<float>, Mem> depthRange;  // depth visualisation only
-  Kokkos::View<uint64_t, Mem> sumArea, maxArea;  // raster statistics for RasterMethod::Auto
+  Kokkos::View<uint64_t, Mem> sumArea, maxArea, occArea;  // raster statistics for RasterMethod::Auto
   LineFrame lines;           // the point/line pass (raster_lines.h)
 
   // Capacities chosen by the host; the device writes nothing past them and

@@ -325,6 +325,7 @@ struct WriteChunks {
   DView<uint32_t> chunkOffset, chunkBlocks, clipBlocks;
   DView<uint8_t> clipCount;
   DView<uint64_t> workHint;  // with blocks (raster_common.h)
+  OccluderList occ;          // with blocks, single-sample frames (raster_common.h)
 
   static size_t scratchBytes() {
     // Kept under 32 KiB: at 32.1 KiB (a second scan array) the H100's setup
@@ -469,6 +470,7 @@ struct WriteChunks {
           workOffset(o) = item;
           const uint32_t end = itemBase + (i + 1 < len ? blk[i + 1] : blk[len - 1] + shared[3]);
           markWorkHints(workHint.data(), hints, tag, item, end, o);
+          occ.add(*reinterpret_cast<const RasterTri*>(&staged[i * kStageStride]), o);
         }
         return;
       }
@@ -483,6 +485,7 @@ struct WriteChunks {
             workOffset(o) = item;
             const uint32_t end = item + visBlocksOf(rt, bw);
             markWorkHints(workHint.data(), hints, tag, item, end, o);
+            occ.add(rt, o);
             item = end;
           }
         }
@@ -507,6 +510,7 @@ struct WriteChunksHost {
   int32_t blocks;  // number the visbuffer's work items
   DView<uint64_t> workHint;  // with blocks (raster_common.h)
   DView<FrameUniforms> frame;
+  OccluderList occ;          // with blocks, single-sample frames (raster_common.h)
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
     const uint32_t first = chunk * kSetupChunk, len = chunkLength(chunk, numTris);
@@ -521,6 +525,7 @@ struct WriteChunksHost {
           workOffset(o) = item;
           const uint32_t end = item + visBlocksOf(rt, bw);
           markWorkHints(workHint.data(), uint32_t(workHint.extent(0)), tag, item, end, o);
+          occ.add(rt, o);
           item = end;
         }
       }
@@ -551,7 +556,8 @@ struct WriteChunksHost {
 // (more than one chunk) and WriteChunksHost on host backends (not built for
 // GPUs).
 template <bool kHost>
-void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool blocks, int teamSize) {
+void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool blocks, int teamSize,
+                 const OccluderList& occ) {
   if constexpr (kHost) {
     using Host = std::conditional_t<kHost, WriteChunksHost, void>;  // dependent: not built for GPUs
     const bool single = chunks == 1;
@@ -564,7 +570,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
     }
     Kokkos::parallel_for("rast::setup::write", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
                          Host{c, f.chunkOffset, f.chunkBlocks, f.counters, f.workOffset, f.clipCount, f.tris, f.triCapacity,
-                              numTris, single ? 1 : 0, blocks ? 1 : 0, f.workHint, f.uniforms});
+                              numTris, single ? 1 : 0, blocks ? 1 : 0, f.workHint, f.uniforms, occ});
   } else {
     // The look-back's wait grows with the number of chunks (one thread walks
     // back, kLookBackBatch chunks a step): beyond kSetupLookBackMaxChunks a
@@ -585,7 +591,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
                              .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
                          WriteChunks{c, f.setupStatus, f.counters, f.workOffset, f.uniforms, f.tris, f.triCapacity, numTris,
                                      chunks, blocks ? 1 : 0, lookBack ? 1 : 0, f.chunkOffset, f.chunkBlocks, f.clipBlocks,
-                                     f.clipCount, blocks ? f.workHint : DView<uint64_t>()});
+                                     f.clipCount, blocks ? f.workHint : DView<uint64_t>(), occ});
   }
 }
 
@@ -606,7 +612,7 @@ int gpuSetupTeamsForTests = 0;  // setGpuSetupOnHostForTests
 
 void setGpuSetupOnHostForTests(int teamSize) { gpuSetupTeamsForTests = teamSize > 0 ? teamSize : 0; }
 
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks) {
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks, bool occluders) {
   const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
   ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
   if (numberBlocks) {
@@ -616,12 +622,21 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool n
     if (f.workHint.extent(0) < size_t(f.triCapacity) + 256)
       f.workHint = allocZeroed<uint64_t>("frame.workHint", size_t(f.triCapacity) + 256);
   }
+  // The occluder candidates of a single-sample visbuffer frame (raster_common.h);
+  // the raster zeroes the count for the next frame.
+  OccluderList occ;
+  if (numberBlocks && occluders && f.vp.samples.count == 1) {
+    if (!f.occCount.data()) f.occCount = allocZeroed<uint64_t>("frame.occCount", 1);
+    ensureCapacity(f.occStart, "frame.occStart", f.triCapacity);
+    ensureCapacity(f.occTri, "frame.occTri", f.triCapacity);
+    occ = OccluderList{f.occCount.data(), f.occStart.data(), f.occTri.data(), f.triCapacity};
+  }
   SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
   if (chunks > 0 && !kOnDevice && gpuSetupTeamsForTests > 0) {
-    launchSetup<false>(c, f, chunks, s.numTris, numberBlocks, gpuSetupTeamsForTests);
+    launchSetup<false>(c, f, chunks, s.numTris, numberBlocks, gpuSetupTeamsForTests, occ);
   } else if (chunks > 0) {
-    launchSetup<!kOnDevice>(c, f, chunks, s.numTris, numberBlocks, kTeamSize);
+    launchSetup<!kOnDevice>(c, f, chunks, s.numTris, numberBlocks, kTeamSize, occ);
   } else {  // no triangles: no raster triangles or items
     auto counters = f.counters;
     Kokkos::parallel_for("rast::setup::none", Range(0, 1), KOKKOS_LAMBDA(const int) {

@@ -191,9 +191,11 @@ struct DepthTerms {
   float z0, d1, d2, ia;
   KOKKOS_INLINE_FUNCTION explicit DepthTerms(const RasterTri& t)
       : z0(t.z[0]), d1(t.z[1] - t.z[0]), d2(t.z[2] - t.z[0]), ia(t.invArea) {}
-  KOKKOS_INLINE_FUNCTION float at(int64_t e0, int64_t e2) const {
+  KOKKOS_INLINE_FUNCTION float at(int64_t e0, int64_t e2) const { return clamp01(plane(e0, e2)); }
+  // The same before clamping (the occluder bounds' corners).
+  KOKKOS_INLINE_FUNCTION float plane(int64_t e0, int64_t e2) const {
     const float l1 = float(e2) * ia, l2 = float(e0) * ia;
-    return clamp01(z0 + (l1 * d1 + l2 * d2));
+    return z0 + (l1 * d1 + l2 * d2);
   }
 };
 KOKKOS_INLINE_FUNCTION float depthAt(const RasterTri& t, int64_t e0, int64_t /*e1*/, int64_t e2) {
@@ -291,6 +293,137 @@ KOKKOS_INLINE_FUNCTION uint32_t visBlocksOf(const RasterTri& t, uint32_t& bw) {
   bw = uint32_t((t.maxX >> kVisBlockShift) - (t.minX >> kVisBlockShift) + 1);
   const uint32_t bh = uint32_t((t.maxY >> kVisBlockShift) - (t.minY >> kVisBlockShift) + 1);
   return bw * bh;
+}
+
+// Occluders (raster_visbuffer.cpp): before the visbuffer raster, the 8x8
+// blocks that a raster triangle covers whole lower those blocks' depth bounds
+// to the farthest depth it has there, so that the raster skips the items
+// behind it whatever order they run in. The setup lists the candidates:
+// triangles whose bounding box holds a whole block and whose area could hold
+// one (a triangle containing an 8x8 square has an area of at least 128
+// pixels; 120 leaves room for the rounding of invArea).
+constexpr float kOccluderMinArea = 120.0f;
+struct WholeBlocks {
+  int32_t bx0, by0, nx, ny;  // blocks [bx0, bx0 + nx) x [by0, by0 + ny)
+};
+KOKKOS_INLINE_FUNCTION WholeBlocks wholeBlocksOf(const RasterTri& t) {
+  constexpr int32_t kSide = 1 << kVisBlockShift;
+  const int32_t bx0 = (t.minX + kSide - 1) >> kVisBlockShift, bx1 = ((t.maxX + 1) >> kVisBlockShift) - 1;
+  const int32_t by0 = (t.minY + kSide - 1) >> kVisBlockShift, by1 = ((t.maxY + 1) >> kVisBlockShift) - 1;
+  return {bx0, by0, bx1 >= bx0 ? bx1 - bx0 + 1 : 0, by1 >= by0 ? by1 - by0 + 1 : 0};
+}
+// The blocks a triangle offers as an occluder (0: not a candidate).
+KOKKOS_INLINE_FUNCTION bool occluderCandidate(const RasterTri& t) {
+  // invArea = 1 / (2 * area * 256^2): the area test without a division.
+  return t.invArea * (2.0f * kOccluderMinArea * float(kSubOne) * float(kSubOne)) <= 1.0f;
+}
+// The occluder pass takes a candidate's whole blocks in segments of up to
+// kOccluderSegment blocks along a row, a work item each: one search for the
+// candidate and one set of edge values per segment, stepped from block to
+// block (a block a work item searched and set up 196,000 times for one view of
+// the milk truck's cab).
+constexpr int32_t kOccluderSegment = 16;
+KOKKOS_INLINE_FUNCTION uint32_t occluderSegments(const RasterTri& t) {
+  if (!occluderCandidate(t)) return 0;
+  const WholeBlocks w = wholeBlocksOf(t);
+  return uint32_t(w.ny) * uint32_t((w.nx + kOccluderSegment - 1) / kOccluderSegment);
+}
+// The setup's list of candidates: occCount packs the segments listed so far
+// (high word) and the candidates (low word), so that one atomic addition gives
+// a candidate both its slot and its first segment, and the starts increase
+// with the slot (a binary search finds a segment's candidate). The order of the
+// list depends on scheduling; the bounds it yields (minima) do not.
+struct OccluderList {
+  uint64_t* count = nullptr;  // null: no list this frame
+  uint32_t* start = nullptr;
+  uint32_t* tri = nullptr;
+  uint32_t capacity = 0;
+  KOKKOS_INLINE_FUNCTION void add(const RasterTri& t, uint32_t index) const {
+    if (!count) return;
+    const uint32_t n = occluderSegments(t);
+    if (n == 0) return;
+    const uint64_t old = Kokkos::atomic_fetch_add(count, uint64_t(n) << 32 | 1u);
+    const uint32_t j = uint32_t(old);
+    if (j < capacity) {  // always: each stored raster triangle is added once
+      start[j] = uint32_t(old >> 32);
+      tri[j] = index;
+    }
+  }
+};
+
+// The edge values at the four corner pixel centres of an 8x8 block (edge i,
+// corner k: lower left, lower right, upper left, upper right), stepped from
+// block to block along a row (exact: integers).
+struct BlockCorners {
+  int64_t v[3][4];
+  KOKKOS_INLINE_FUNCTION BlockCorners(const Edges& e, int32_t bx, int32_t by) {
+    const int32_t x0 = bx << kVisBlockShift, x1 = x0 + (1 << kVisBlockShift) - 1;
+    const int32_t y0 = by << kVisBlockShift, y1 = y0 + (1 << kVisBlockShift) - 1;
+    for (int i = 0; i < 3; ++i) {
+      v[i][0] = e.eval(i, x0, y0);
+      v[i][1] = e.eval(i, x1, y0);
+      v[i][2] = e.eval(i, x0, y1);
+      v[i][3] = e.eval(i, x1, y1);
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void stepRight(const Edges& e) {
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 4; ++k) v[i][k] += e.A[i] * (1 << kVisBlockShift);
+  }
+};
+
+// Whether a triangle covers a block whole, and if so a bound (float bits) on
+// the depth of its every pixel there, from the block's corner edge values.
+// Whole: the four corner pixel centres lie inside (exact edge values, with the
+// fill rule's bias), so every centre between does. The bound: depth is a
+// plane, so its largest value over the block is at a corner; depthAt() rounds
+// each pixel's within a few ulps of |z0| + |d1| + |d2| (its weights lie in
+// [0, 1] inside), and the margin, 2e-6 of that, is several times as much.
+// False too when the bound is no nearer than the clear depth, or NaN.
+KOKKOS_INLINE_FUNCTION bool occluderBound(const Edges& e, const DepthTerms& dz, const BlockCorners& c, uint32_t& bits) {
+  bool whole = true;
+  float far = 0.0f;
+  for (int k = 0; k < 4; ++k) {
+    whole = whole && e.inside(c.v[0][k], c.v[1][k], c.v[2][k]);
+    const float z = dz.plane(c.v[0][k], c.v[2][k]);
+    far = z > far ? z : far;
+  }
+  const float az = dz.z0 < 0.0f ? -dz.z0 : dz.z0, a1 = dz.d1 < 0.0f ? -dz.d1 : dz.d1, a2 = dz.d2 < 0.0f ? -dz.d2 : dz.d2;
+  const float bound = far + 2e-6f * (1.0f + az + a1 + a2);
+  // A depth of -0 (bits above every positive float's) could only come from a
+  // z0 of -0: no bound then.
+  if (!whole || !(bound < 1.0f) || floatBits(dz.z0) == 0x80000000u) return false;
+  bits = floatBits(bound);
+  return true;
+}
+// The same for block (bx, by) of raster triangle t.
+KOKKOS_INLINE_FUNCTION bool occluderBound(const RasterTri& t, int32_t bx, int32_t by, uint32_t& bits) {
+  const Edges e(t);
+  return occluderBound(e, DepthTerms(t), BlockCorners(e, bx, by), bits);
+}
+
+// A lower bound on the depth of t's pixels in the rectangle [x0, x1] x
+// [y0, y1], when that is nearer than its depth bound: the plane's smallest
+// value at the rectangle's corners (where the rectangle's smallest is), less
+// a margin for depthAt()'s rounding, which outside the triangle (corners of a
+// rectangle it only crosses) grows with the weights there. Tighter than
+// depthBounds() for a large sloped triangle, whose nearest corner may lie far
+// from the block.
+KOKKOS_INLINE_FUNCTION float rectNearest(const Edges& e, const DepthTerms& dz, int32_t x0, int32_t x1, int32_t y0,
+                                         int32_t y1) {
+  const int32_t cx[4] = {x0, x1, x0, x1}, cy[4] = {y0, y0, y1, y1};
+  float lo = 1.0f, weights = 1.0f;
+  for (int k = 0; k < 4; ++k) {
+    const int64_t e0 = e.eval(0, cx[k], cy[k]), e2 = e.eval(2, cx[k], cy[k]);
+    const float z = dz.plane(e0, e2);
+    lo = z < lo ? z : lo;
+    const float l1 = float(e2) * dz.ia, l2 = float(e0) * dz.ia;
+    const float w = (l1 < 0.0f ? -l1 : l1) + (l2 < 0.0f ? -l2 : l2);
+    weights = w > weights ? w : weights;
+  }
+  const float az = dz.z0 < 0.0f ? -dz.z0 : dz.z0, a1 = dz.d1 < 0.0f ? -dz.d1 : dz.d1, a2 = dz.d2 < 0.0f ? -dz.d2 : dz.d2;
+  const float bound = lo - 2e-6f * (1.0f + az + (1.0f + weights) * (a1 + a2));
+  return bound == bound ? bound : 0.0f;  // NaN: no bound
 }
 
 // What rasterRect saw (single sample only): the pixels the triangle covers,

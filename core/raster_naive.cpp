@@ -83,18 +83,77 @@ struct AreaMax {
   }
 };
 
+// The area in pixels of the occluder candidates (raster_common.h) inside the
+// viewport: how much of the frame large triangles cover, layers counted
+// (RasterMethod::Auto turns the occluder pass on when it is several frames'
+// worth). Clipped to the viewport, since a triangle cut at the near plane
+// reaches far beyond it (bigtri's two pieces: 2,000 frames' area unclipped).
+KOKKOS_INLINE_FUNCTION float areaInViewport(const RasterTri& t, float w, float h) {
+  // Sutherland-Hodgman against x >= 0, x <= w, y >= 0, y <= h (in pixels).
+  float px[9], py[9], qx[9], qy[9];
+  int n = 3;
+  for (int i = 0; i < 3; ++i) {
+    px[i] = float(t.x[i]) * (1.0f / float(kSubOne));
+    py[i] = float(t.y[i]) * (1.0f / float(kSubOne));
+  }
+  for (int plane = 0; plane < 4; ++plane) {
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const int j = i + 1 == n ? 0 : i + 1;
+      const float vi = plane == 0 ? px[i] : plane == 1 ? w - px[i] : plane == 2 ? py[i] : h - py[i];
+      const float vj = plane == 0 ? px[j] : plane == 1 ? w - px[j] : plane == 2 ? py[j] : h - py[j];
+      if (vi >= 0.0f) {
+        qx[m] = px[i];
+        qy[m] = py[i];
+        ++m;
+      }
+      if ((vi >= 0.0f) != (vj >= 0.0f)) {
+        const float a = vi / (vi - vj);
+        qx[m] = px[i] + a * (px[j] - px[i]);
+        qy[m] = py[i] + a * (py[j] - py[i]);
+        ++m;
+      }
+    }
+    n = m;
+    for (int i = 0; i < n; ++i) {
+      px[i] = qx[i];
+      py[i] = qy[i];
+    }
+  }
+  float twice = 0.0f;
+  for (int i = 0; i < n; ++i) {
+    const int j = i + 1 == n ? 0 : i + 1;
+    twice += px[i] * py[j] - px[j] * py[i];
+  }
+  return 0.5f * (twice < 0.0f ? -twice : twice);
+}
+struct OccluderArea {
+  DView<RasterTri> tris;
+  DView<uint32_t> counters;
+  uint32_t capacity;
+  float width, height;
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint64_t& sum) const {
+    const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
+    if (i < n && occluderCandidate(tris(i))) sum += uint64_t(areaInViewport(tris(i), width, height));
+  }
+};
+
 }  // namespace
 
 void rasterStatistics(FrameBuffers& f) {
   if (!f.sumArea.data()) {
     f.sumArea = allocScalar<uint64_t>("frame.sumArea");
     f.maxArea = allocScalar<uint64_t>("frame.maxArea");
+    f.occArea = allocScalar<uint64_t>("frame.occArea");
   }
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
   Kokkos::parallel_reduce("rast::raster::stats::area_sum", Policy(0, f.triCapacity),
                           AreaSum{f.tris, f.counters, f.triCapacity}, Kokkos::Sum<uint64_t, Mem>(f.sumArea));
   Kokkos::parallel_reduce("rast::raster::stats::area_max", Policy(0, f.triCapacity),
                           AreaMax{f.tris, f.counters, f.triCapacity}, Kokkos::Max<uint64_t, Mem>(f.maxArea));
+  Kokkos::parallel_reduce("rast::raster::stats::occluder_area", Policy(0, f.triCapacity),
+                          OccluderArea{f.tris, f.counters, f.triCapacity, float(f.vp.width), float(f.vp.height)},
+                          Kokkos::Sum<uint64_t, Mem>(f.occArea));
 }
 
 }  // namespace rast

@@ -19,7 +19,7 @@ namespace rast {
 
 size_t FrameBuffers::bytes() const {
   return viewBytes(uploaded) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(chunkBlocks) + viewBytes(setupStatus) + viewBytes(clipCount) + viewBytes(clipBlocks) +
-         viewBytes(tris) + viewBytes(workOffset) + viewBytes(workHint) + viewBytes(blockDepth) + viewBytes(blockFrame) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
+         viewBytes(tris) + viewBytes(workOffset) + viewBytes(workHint) + viewBytes(blockDepth) + viewBytes(blockFrame) + viewBytes(occCount) + viewBytes(occStart) + viewBytes(occTri) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
          viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
 }
 
@@ -75,7 +75,7 @@ const Scene& admitScene(const Scene& s, uint64_t budget) {
                     std::to_string(s.indices.size() / 3) + " triangles, " + std::to_string(texels) + " texels)",
                 sceneBytes);
   ledger.charge("the raster triangle buffer (" + std::to_string(s.triangleCount()) + " drawn triangles)",
-                mulSat(uint64_t(s.triangleCount()) + 1024, sizeof(RasterTri) + 3 * sizeof(uint32_t)));
+                mulSat(uint64_t(s.triangleCount()) + 1024, sizeof(RasterTri) + 5 * sizeof(uint32_t)));
   ledger.charge("the vertex stage buffers (" + std::to_string(drawnVertices(s)) + " drawn vertices)",
                 mulSat(drawnVertices(s), sizeof(float4) + sizeof(SnapVert) + 2 * sizeof(float3)));
   return s;
@@ -111,6 +111,17 @@ RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const {
   // cheapest (no expansion into blocks or bins).
   if (autoStats_.maxArea <= kNaiveMaxBoxArea) return RasterMethod::Naive;
   return kPreferVisBuffer ? RasterMethod::VisBuffer : RasterMethod::Binned;
+}
+
+// The visbuffer's occluder pass (raster_visbuffer.cpp) pays where large
+// triangles lie in layers: `auto` runs it when its candidates' summed area
+// reaches kOccluderMinLayers frames (backends/tuning.h); an explicit
+// visbuffer always runs it. Single-sample frames only.
+bool Renderer::useOccluders(const RenderSettings& rs) const {
+  if (lastMethod_ != RasterMethod::VisBuffer || rs.polygon != PolygonMode::Fill || rs.msaa != 1) return false;
+  if (rs.raster != RasterMethod::Auto) return true;
+  return autoStats_.valid &&
+         double(autoStats_.occArea) >= kOccluderMinLayers * double(rs.width) * double(rs.height);
 }
 
 void Renderer::checkFrameBudget(const RenderSettings& rs) const {
@@ -204,13 +215,14 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   const bool film = rs.post.needsFloat() || supersampling_;
   lastMethod_ = resolveMethod(rs);
   lastAuto_ = rs.raster == RasterMethod::Auto;
+  lastOccluders_ = useOccluders(rs);
   statsThisFrame_ = lastAuto_ && (!autoStats_.valid || autoFrames_ % kAutoStatsEvery == 0);
   if (lastAuto_) ++autoFrames_;
   // Everything the frame's launches depend on besides device memory: a
   // recorded frame is replayed only under the same key (frame_graphs.h).
   uint64_t visClear = frame_.visClear ? 1 : 0;
   std::string key = settingsKey(rs);
-  for (uint64_t v : {uint64_t(lastMethod_), uint64_t(statsThisFrame_), visClear, uint64_t(supersampling_),
+  for (uint64_t v : {uint64_t(lastMethod_), uint64_t(statsThisFrame_), uint64_t(lastOccluders_), visClear, uint64_t(supersampling_),
                      uint64_t(frame_.triCapacity), uint64_t(frame_.workCapacity)})
     key.append(reinterpret_cast<const char*>(&v), sizeof v);
 
@@ -235,7 +247,7 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
   Kokkos::Profiling::pushRegion("rast::setup");
   // The visbuffer raster's work items are numbered by the setup.
   const bool numberBlocks = lastMethod_ == RasterMethod::VisBuffer && rs.polygon == PolygonMode::Fill;
-  primitiveSetup(scene_, frame_, rs.cull == CullMode::Back, numberBlocks);
+  primitiveSetup(scene_, frame_, rs.cull == CullMode::Back, numberBlocks, lastOccluders_);
   Kokkos::Profiling::popRegion();
   if (statsThisFrame_) rasterStatistics(frame_);
   if (timer) timer->mark("setup");
@@ -286,7 +298,7 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
       break;
     default:
       clearVisibility(frame_);
-      rasterVisBuffer(frame_);
+      rasterVisBuffer(frame_, lastOccluders_);
       break;
   }
   // Points and lines after the triangles: binned writes every pixel. Keys
@@ -321,7 +333,8 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
   if (statsThisFrame_) {
     auto sum = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.sumArea);
     auto mx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.maxArea);
-    autoStats_ = AutoStats{need <= frame_.triCapacity, sum(), mx(), need};
+    auto occ = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.occArea);
+    autoStats_ = AutoStats{need <= frame_.triCapacity, sum(), mx(), need, occ()};
   }
   if (stats) {
     stats->trianglesIn = scene_.numTris;
@@ -338,7 +351,7 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     MemoryLedger ledger(budget_);
     ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.tris));
     ledger.check("the raster triangle buffer (" + std::to_string(need) + " triangles after clipping)",
-                 mulSat(uint64_t(need) + need / 8, sizeof(RasterTri) + 2 * sizeof(uint32_t)));
+                 mulSat(uint64_t(need) + need / 8, sizeof(RasterTri) + 4 * sizeof(uint32_t)));
     frame_.triCapacity = need + need / 8;
     frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
     fit = false;

@@ -112,7 +112,10 @@ class Renderer {
     bool valid = false;
     uint64_t sumArea = 0, maxArea = 0;
     uint32_t tris = 0;
+    uint64_t occArea = 0;  // summed area of the occluder candidates (rasterStatistics)
   } autoStats_;
+  bool lastOccluders_ = false;  // the last frame ran the visbuffer's occluder pass
+  bool useOccluders(const RenderSettings& rs) const;
 };
 
 }  // namespace rast

@@ -39,7 +39,7 @@ KOKKOS_INLINE_FUNCTION mat4f drawMvp(const mat4d& vp, const mat4d& m) {
 // Writes f.tris (up to f.triCapacity) and f.counters(kRasterTris); with
 // numberBlocks, also the visbuffer method's work items (f.workOffset,
 // f.chunkBlocks, f.counters(kRasterWork); primitive_setup.cpp).
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks);
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks, bool occluders);
 
 // Tests: from now on a host backend sets up primitives as a GPU does
 // (primitive_setup.cpp's WriteChunks: a team per chunk, here of teamSize
@@ -59,11 +59,15 @@ void clearVisibility(FrameBuffers& f);
 // Raster methods: each reads f.tris / f.counters(kRasterTris) and min-combines
 // visKey values into f.vis. All produce bit-identical visibility buffers.
 void rasterNaive(FrameBuffers& f);
-void rasterVisBuffer(FrameBuffers& f);
+// occluders: large triangles first lower the depth bounds of the blocks they
+// cover whole (raster_visbuffer.cpp), for frames of high depth complexity;
+// the setup must have been told too (primitiveSetup).
+void rasterVisBuffer(FrameBuffers& f, bool occluders);
 void rasterBinned(FrameBuffers& f);  // writes every pixel: needs no clearVisibility
 
 // Cheap statistics of the raster triangles (sum and maximum of their pixel
-// bounding-box areas) into f.sumArea / f.maxArea, for choosing a method.
+// bounding-box areas, and the summed area of the occluder candidates) into
+// f.sumArea / f.maxArea / f.occArea, for choosing a method.
 void rasterStatistics(FrameBuffers& f);
 
 struct LightGPU {

@@ -372,7 +372,7 @@ TEST_CASE("non-finite and degenerate triangles are dropped, the rest still drawn
   CHECK(covered > 1000);
 }
 
-TEST_CASE("a triangle's depth bounds hold the depth of every pixel it covers", "[raster][hiz]") {
+TEST_CASE("a triangle's depth bounds, and its blocks', hold the depth of every pixel it covers", "[raster][hiz]") {
   // The visibility-buffer raster skips an 8x8 block when a triangle's lower
   // bound lies behind the block's bound, and lowers that to the upper bound of
   // a triangle covering the block: a fragment outside [lo, hi] could then be
@@ -382,7 +382,7 @@ TEST_CASE("a triangle's depth bounds hold the depth of every pixel it covers", "
   std::uniform_real_distribution<double> pos(-20.0, 84.0), unit(0.0, 1.0);
   const int W = 64, H = 64;
   const Viewport vp{W, H, SamplePattern{}};
-  size_t fragments = 0, outside = 0, narrow = 0;
+  size_t fragments = 0, outside = 0, narrow = 0, belowRect = 0, tighter = 0;
   for (int n = 0; n < 4000; ++n) {
     const int kind = n % 4;
     ClipVert v[3];
@@ -409,11 +409,85 @@ TEST_CASE("a triangle's depth bounds hold the depth of every pixel it covers", "
         if (d < b.lo || d > b.hi) {
           if (++outside <= 3) UNSCOPED_INFO("depth " << d << " outside [" << b.lo << ", " << b.hi << "]");
         }
+        // The bound of the pixel's 8x8 block within the box (rectNearest),
+        // from corners the triangle may only cross.
+        const int bx0 = std::max(t.minX, x & ~7), bx1 = std::min(t.maxX, (x & ~7) + 7);
+        const int by0 = std::max(t.minY, y & ~7), by1 = std::min(t.maxY, (y & ~7) + 7);
+        const float near = rectNearest(e, DepthTerms(t), bx0, bx1, by0, by1);
+        tighter += near > b.lo;
+        if (d < near && ++belowRect <= 3) UNSCOPED_INFO("depth " << d << " below its block's bound " << near);
       }
   }
   CHECK(fragments > 100000);
   CHECK(narrow > 1000);  // the bounds are tight enough to cull with
   CHECK(outside == 0);
+  CHECK(belowRect == 0);
+  CHECK(tighter * 4 > fragments);  // the blocks' bounds are often nearer the pixels than the triangle's
+}
+
+TEST_CASE("an occluder's block bound holds every pixel of the block, and the area filter loses no occluder",
+          "[raster][hiz]") {
+  // Before the visbuffer raster, each 8x8 block a large triangle covers whole
+  // takes the triangle's farthest depth there plus a margin as its depth bound
+  // (occluderBound), and items behind it are skipped. The bound must hold the
+  // depth of every pixel of the block, as depthAt() rounds it; and the setup's
+  // filter (occluderSegments: a bounding box holding a whole block, an area of
+  // kOccluderMinArea pixels) must keep every triangle that covers a block.
+  // Random triangles from 6 to 160 pixels across, sloped, with depths spread,
+  // near 1 (coarse float steps) and within 1e-5 of 0.5.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int W = 256, H = 256;
+  const Viewport vp{W, H, SamplePattern{}};
+  size_t wholeBlocks = 0, pixels = 0, above = 0, filteredOut = 0, tight = 0;
+  for (int n = 0; n < 3000; ++n) {
+    const int kind = n % 3;
+    const double size = 6.0 + 154.0 * unit(rng) * unit(rng), cx = 16.0 + 224.0 * unit(rng), cy = 16.0 + 224.0 * unit(rng);
+    ClipVert v[3];
+    for (int k = 0; k < 3; ++k) {
+      double z = unit(rng);
+      if (kind == 1) z = 0.999 + 0.001 * unit(rng);
+      if (kind == 2) z = 0.5 + 1e-5 * unit(rng);
+      const rast::float3 p = windowToNdc(cx + size * (unit(rng) - 0.5), cy + size * (unit(rng) - 0.5), 0.0, W, H);
+      v[k].p = rast::float4{p.x, p.y, float(2.0 * z - 1.0), 1.0f};
+      v[k].b1 = v[k].b2 = 0.0f;
+    }
+    RasterTri t;
+    if (!setupTriangle(v[0], v[1], v[2], vp, false, true, 0, t)) continue;
+    const Edges e(t);
+    const bool candidate = occluderSegments(t) > 0;
+    const DepthBounds db = depthBounds(t);
+    for (int by = 0; by < H / 8; ++by) {
+      BlockCorners stepped(e, 0, by);  // as the occluder pass steps along a row
+      for (int bx = 0; bx < W / 8; ++bx, stepped.stepRight(e)) {
+        uint32_t bits = 0, steppedBits = 0;
+        const bool bounded = occluderBound(t, bx, by, bits);
+        REQUIRE(occluderBound(e, DepthTerms(t), stepped, steppedBits) == bounded);
+        if (bounded) REQUIRE(steppedBits == bits);
+        // Whole coverage by brute force, to check the filter and the corners.
+        bool whole = true;
+        for (int y = by * 8; y < by * 8 + 8; ++y)
+          for (int x = bx * 8; x < bx * 8 + 8; ++x) whole = whole && e.inside(e.eval(0, x, y), e.eval(1, x, y), e.eval(2, x, y));
+        if (whole && !candidate) ++filteredOut;
+        if (!bounded) continue;
+        REQUIRE(whole);
+        ++wholeBlocks;
+        tight += bitsFloat(bits) < db.hi;
+        for (int y = by * 8; y < by * 8 + 8; ++y)
+          for (int x = bx * 8; x < bx * 8 + 8; ++x) {
+            const int64_t e0 = e.eval(0, x, y), e1 = e.eval(1, x, y), e2 = e.eval(2, x, y);
+            ++pixels;
+            if (floatBits(depthAt(t, e0, e1, e2)) > bits && ++above <= 3)
+              UNSCOPED_INFO("depth " << depthAt(t, e0, e1, e2) << " above the bound " << bitsFloat(bits));
+          }
+      }
+    }
+  }
+  CHECK(wholeBlocks > 2000);
+  CHECK(pixels == wholeBlocks * 64);
+  CHECK(above == 0);
+  CHECK(filteredOut == 0);
+  CHECK(tight * 2 > wholeBlocks);  // most blocks' bounds are nearer than the triangle's farthest depth
 }
 
 TEST_CASE("a rectangle outside a triangle's edges holds none of its pixels", "[raster][hiz]") {
@@ -504,4 +578,69 @@ TEST_CASE("the visbuffer raster finds every item's triangle: large triangles amo
     for (uint32_t id : ref.ids) covered += id != 0;
   }
   CHECK(covered > W * H);  // most of the frame, three times
+}
+
+// Occluders (raster_visbuffer.cpp): before the raster, large triangles lower
+// the depth bounds of the blocks they cover whole, and the raster skips items
+// behind them. Layers drawn back to front (every later one in front: the case
+// the bounds are for), sloped planes that cross inside blocks, layers two float
+// steps apart and layers at equal depth (the earlier triangle keeps the pixel)
+// must give the naive raster's ids and depth. One renderer draws four frames
+// whose cameras move and scale the layers: the setup's list of occluders is
+// rebuilt each frame (a list left from the last frame would bound blocks with
+// other triangles).
+TEST_CASE("occluders: layers back to front, crossing, two float steps apart and level give the naive raster's ids and depth",
+          "[raster][hiz]") {
+  const int W = 640, H = 480;
+  std::vector<rast::float3> p;
+  std::vector<uint32_t> idx;
+  auto tri = [&](double ax, double ay, double az, double bx, double by, double bz, double cx, double cy, double cz) {
+    const uint32_t b = uint32_t(p.size());
+    p.push_back(windowToNdc(ax, ay, az, W, H));
+    p.push_back(windowToNdc(bx, by, bz, W, H));
+    p.push_back(windowToNdc(cx, cy, cz, W, H));
+    idx.insert(idx.end(), {b, b + 1, b + 2});
+  };
+  auto quad = [&](double x0, double y0, double x1, double y1, double z00, double z10, double z01, double z11) {
+    tri(x0, y0, z00, x1, y0, z10, x1, y1, z11);
+    tri(x0, y0, z00, x1, y1, z11, x0, y1, z01);
+  };
+  for (int i = 0; i < 12; ++i) {  // back to front, each a little smaller
+    const double m = 6.0 * i, z = 0.9 - 0.06 * i;
+    quad(m, m, W - m, H - m, z, z, z, z);
+  }
+  quad(0, 0, W, H, 0.05, 0.5, 0.5, 0.05);  // sloped planes crossing each other along a diagonal
+  quad(0, 0, W, H, 0.5, 0.05, 0.05, 0.5);
+  // A layer, then one two float steps of window depth nearer (far less than
+  // the bounds' margin), then a level one. (z here is NDC: window depth is
+  // half of it plus a half.)
+  const double near = 0.03, step = near - 2e-7;
+  quad(40, 40, 300, 300, near, near, near, near);
+  quad(60, 60, 320, 320, step, step, step, step);
+  quad(50, 50, 310, 310, step, step, step, step);
+  for (int i = 0; i < 40; ++i) tri(330 + 7 * i, 350, 0.02, 336 + 7 * i, 352, 0.02, 332 + 7 * i, 360, 0.02);
+  const Scene s = trianglesScene(p, idx);
+  RenderSettings rs;
+  rs.width = W;
+  rs.height = H;
+  rs.wantPrimId = true;
+  rs.wantDepth = true;
+  Renderer r(s);
+  size_t stepWins = 0;
+  for (const double shift : {0.0, 23.0, -41.0, 5.0}) {
+    Camera cam = identityCamera();
+    const double scale = shift == 5.0 ? 0.6 : 1.0;
+    cam.viewProjOverride = glm::translate(glm::dmat4(1.0), glm::dvec3(2.0 * shift / W, 1.4 * shift / H, 0.0)) *
+                           glm::scale(glm::dmat4(1.0), glm::dvec3(scale, scale, 1.0));
+    INFO("shift " << shift);
+    rs.raster = RasterMethod::Naive;
+    const Frame ref = renderFrame(s, cam, rs);
+    rs.raster = RasterMethod::VisBuffer;
+    r.render(cam, rs);
+    REQUIRE(r.primIdsBottomUp() == ref.ids);
+    REQUIRE(r.depthBottomUp() == ref.depth);
+    const uint32_t stepQuad = 2 * 12 + 4 + 2 + 1;  // the id of the nearer layer's first triangle
+    for (uint32_t id : ref.ids) stepWins += id == stepQuad || id == stepQuad + 1;
+  }
+  CHECK(stepWins > 4 * 20000);  // the nearer layer shows (and the level one behind it does not)
 }
