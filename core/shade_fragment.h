@@ -36,6 +36,14 @@ struct TriFrag {
   float4 baseColor{1.0f, 1.0f, 1.0f, 1.0f};
   int32_t textured = 0;
   TextureGPU tex{};
+  // The raster triangle's fields that every fragment reads (bary()), and the
+  // eye: copied here once per triangle. Read through `t` they were loaded
+  // again at every pixel (ten loads a fragment on a GPU): the stores between
+  // fragments might have changed them, for all the compiler knew.
+  float invArea = 0.0f;
+  float invW[3] = {0.0f, 0.0f, 0.0f};
+  float corner[3][2] = {{0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f}};  // RasterTri::bary
+  float3 eye{0.0f, 0.0f, 0.0f};
 };
 
 struct Shade {
@@ -95,7 +103,7 @@ struct Shade {
   // weight l_k / w_k), then mapped through the raster triangle's vertices
   // (clipping moved them). Points outside the triangle extrapolate the plane,
   // which is what the derivatives need.
-  KOKKOS_INLINE_FUNCTION void bary(const RasterTri& t, const Edges& e, int32_t X, int32_t Y, int32_t ox, int32_t oy,
+  KOKKOS_INLINE_FUNCTION void bary(const TriFrag& t, const Edges& e, int32_t X, int32_t Y, int32_t ox, int32_t oy,
                                    float& b0, float& b1, float& b2) const {
     const float l0 = float(e.atSample(1, e.eval(1, X, Y), ox, oy)) * t.invArea;
     const float l1 = float(e.atSample(2, e.eval(2, X, Y), ox, oy)) * t.invArea;
@@ -113,8 +121,8 @@ struct Shade {
     } else {
       w0 = w1 = w2 = 1.0f / 3.0f;
     }
-    b1 = w0 * t.bary[0][0] + w1 * t.bary[1][0] + w2 * t.bary[2][0];
-    b2 = w0 * t.bary[0][1] + w1 * t.bary[1][1] + w2 * t.bary[2][1];
+    b1 = w0 * t.corner[0][0] + w1 * t.corner[1][0] + w2 * t.corner[2][0];
+    b2 = w0 * t.corner[0][1] + w1 * t.corner[1][1] + w2 * t.corner[2][1];
     b0 = 1.0f - b1 - b2;
   }
 
@@ -129,6 +137,13 @@ struct Shade {
     f.t = &tris(index);
     const RasterTri& t = *f.t;
     f.e = Edges(t);
+    f.invArea = t.invArea;
+    for (int k = 0; k < 3; ++k) {
+      f.invW[k] = t.invW[k];
+      f.corner[k][0] = t.bary[k][0];
+      f.corner[k][1] = t.bary[k][1];
+    }
+    f.eye = p.frame(0).camera.eye;
     const uint32_t d = findRange(drawTriStart, numDraws, t.prim);
     const DrawGPU& dr = draws(d);
     const uint32_t base = 3 * (dr.srcTri + (t.prim - dr.dstTri));
@@ -182,10 +197,9 @@ struct Shade {
       return float4{g, g, g, 1.0f};
     }
     if (f.index & kLineFlag) return lineShade.color(f.index & ~kLineFlag);
-    const RasterTri& t = *f.t;
     const Edges& e = f.e;
     float b0, b1, b2;
-    bary(t, e, X, Y, ox, oy, b0, b1, b2);
+    bary(f, e, X, Y, ox, oy, b0, b1, b2);
 
     if (!kLit && p.mode == ShadingMode::TexCoord) {
       // Texture coordinates as raw red/green (fractional part); black without any.
@@ -210,9 +224,9 @@ struct Shade {
       if (!kLit && (p.filter == TexFilter::Trilinear || p.mode == ShadingMode::MipLevel)) {
         // Analytic derivatives: the same plane one pixel to the right and up.
         float c0, c1, c2;
-        bary(t, e, X, Y, ox + kSubOne, oy, c0, c1, c2);
+        bary(f, e, X, Y, ox + kSubOne, oy, c0, c1, c2);
         const float2 ux = uvAt(f, c0, c1, c2);
-        bary(t, e, X, Y, ox, oy + kSubOne, c0, c1, c2);
+        bary(f, e, X, Y, ox, oy + kSubOne, c0, c1, c2);
         const float2 uy = uvAt(f, c0, c1, c2);
         lod = textureLod(ux.x - uv.x, ux.y - uv.y, uy.x - uv.x, uy.y - uv.y, tex.width, tex.height);
         tc = sampleTrilinear(tex, texels, lut, uv.x, uv.y, lod);
@@ -229,7 +243,7 @@ struct Shade {
     }
     if (hasColor) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
 
-    const float3 V = normalize(p.frame(0).camera.eye - P);
+    const float3 V = normalize(f.eye - P);
     float diffuse = p.ambient, spec = 0.0f;
     const int nl = p.headlight ? 1 : int(lights.extent(0));
     for (int k = 0; k < nl; ++k) {
@@ -336,8 +350,13 @@ struct Shade {
     for (uint32_t k = 0; k < uint32_t(kShadeInterleave); ++k)
       keys[k] = tagged && k < rows ? vis(at.i + k * uint32_t(width)) : kClearKey;
     TriFrag f;
-    for (uint32_t k = 0; k < rows; ++k)
-      shadeSingle<kLit>(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[k]);
+    for (uint32_t k = 0; k < rows; ++k) {
+      // Each pixel takes keys[0], and the rest move down a place: indexed by
+      // the loop's k (not unrolled, the shader being long), the keys went to
+      // the stack, and selects were turned back into that.
+      shadeSingle<kLit>(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[0]);
+      for (uint32_t q = 0; q + 1 < uint32_t(kShadeInterleave); ++q) keys[q] = keys[q + 1];
+    }
   }
 
   KOKKOS_INLINE_FUNCTION void use(uint32_t index, TriFrag& f) const {
