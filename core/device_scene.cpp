@@ -54,6 +54,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     g.material = p.material;
     g.mirrored = glm::determinant(dr.model) < 0.0 ? 1 : 0;
     for (int k = 0; k < 16; ++k) g.model.m[k] = (&dr.model[0][0])[k];
+    for (int k = 0; k < 16; ++k) g.modelF.m[k] = float(g.model.m[k]);
     const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(dr.model));
     for (int k = 0; k < 9; ++k) g.normalMatrix.m[k] = float((&nm[0][0])[k]);
     d.hostModels.push_back(g.model);

@@ -15,6 +15,7 @@ struct DrawGPU {
   int32_t mirrored;  // node transform has a negative determinant: front faces are clockwise
   mat4d model;
   mat3f normalMatrix;  // transpose(inverse(mat3(model)))
+  mat4f modelF;        // model rounded to float once, for world positions (the vertex stage)
 };
 
 struct MaterialGPU {

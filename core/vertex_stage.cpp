@@ -42,9 +42,7 @@ struct TransformVertices {
     clip(v) = c;
     snap(v) = snapOrFlag(c, vp, gx, gy);
     if (kWorld) {
-      mat4f model;
-      for (int k = 0; k < 16; ++k) model.m[k] = float(dr.model.m[k]);
-      worldPos(v) = mulPoint(model, p);
+      worldPos(v) = mulPoint(dr.modelF, p);
       worldNormal(v) = normalize(mul(dr.normalMatrix, normals(src)));
     }
   }
@@ -70,9 +68,7 @@ struct TransformVerticesHost {
       if (v >= end) continue;  // a draw without vertices
       const DrawGPU& dr = t.draws(d);
       const mat4f m = t.mvp(d);
-      mat4f model{};
-      if (kWorld)
-        for (int k = 0; k < 16; ++k) model.m[k] = float(dr.model.m[k]);
+      const mat4f model = dr.modelF;
       for (; v < end; ++v) {  // TransformVertices::operator()'s arithmetic
         const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
         const float3 p = t.positions(src);
