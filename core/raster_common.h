@@ -289,7 +289,18 @@ KOKKOS_INLINE_FUNCTION void workHintBounds(const uint64_t* hint, uint32_t hints,
   if (hi <= lo) hi = lo + 1;
 }
 
+// A raster triangle's visbuffer work items: the 8x8 blocks its box meets,
+// except that a box of at most 8x8 pixels is one item wherever it lies (up to
+// four blocks): a dense mesh's small triangles mostly straddle block edges,
+// and each item pays a search for its triangle and the triangle's edge setup.
+KOKKOS_INLINE_FUNCTION bool smallBox(const RasterTri& t) {
+  return t.maxX - t.minX < (1 << kVisBlockShift) && t.maxY - t.minY < (1 << kVisBlockShift);
+}
 KOKKOS_INLINE_FUNCTION uint32_t visBlocksOf(const RasterTri& t, uint32_t& bw) {
+  if (smallBox(t)) {
+    bw = 1;
+    return 1;
+  }
   bw = uint32_t((t.maxX >> kVisBlockShift) - (t.minX >> kVisBlockShift) + 1);
   const uint32_t bh = uint32_t((t.maxY >> kVisBlockShift) - (t.minY >> kVisBlockShift) + 1);
   return bw * bh;

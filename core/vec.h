@@ -39,6 +39,7 @@ KOKKOS_INLINE_FUNCTION float4 operator*(float4 a, float4 b) { return {a.x * b.x,
 
 KOKKOS_INLINE_FUNCTION int32_t imin(int32_t a, int32_t b) { return a < b ? a : b; }
 KOKKOS_INLINE_FUNCTION int32_t imax(int32_t a, int32_t b) { return a > b ? a : b; }
+KOKKOS_INLINE_FUNCTION uint32_t imaxu(uint32_t a, uint32_t b) { return a > b ? a : b; }
 KOKKOS_INLINE_FUNCTION float clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
 KOKKOS_INLINE_FUNCTION bool isFinite(float v) {
   // True for finite values; false for NaN and +-Inf (NaN fails every comparison).

@@ -644,3 +644,52 @@ TEST_CASE("occluders: layers back to front, crossing, two float steps apart and 
   }
   CHECK(stepWins > 4 * 20000);  // the nearer layer shows (and the level one behind it does not)
 }
+
+// A raster triangle whose box is at most 8x8 pixels is one visbuffer item,
+// whatever 8x8 blocks it straddles (smallBox, raster_common.h). Such an item
+// must tag every block it writes a key in (shading reads no key of an
+// untagged block), and may be skipped only behind the bounds of all the
+// blocks it meets. Small triangles straddle block edges and corners across
+// the frame; a column of them straddles the edge of an occluder's blocks
+// (near bounds on the left, far on the right), behind it on the left and seen
+// on the right. With the GPU's interleaved shading (shadeRun 1, block tags
+// read), ids and depth must be those of the binned raster, which tags nothing.
+TEST_CASE("small boxes are one visbuffer item each, tag every block they draw in, and hide only behind all of them",
+          "[raster][hiz]") {
+  const int W = 256, H = 128;
+  std::vector<rast::float3> p;
+  std::vector<uint32_t> idx;
+  auto tri = [&](double ax, double ay, double bx, double by, double cx, double cy, double z) {
+    const uint32_t b = uint32_t(p.size());
+    p.push_back(windowToNdc(ax, ay, z, W, H));
+    p.push_back(windowToNdc(bx, by, z, W, H));
+    p.push_back(windowToNdc(cx, cy, z, W, H));
+    idx.insert(idx.end(), {b, b + 1, b + 2});
+  };
+  tri(0, 0, 64, 0, 64, 128, 0.1);  // the occluder: blocks 0..7 of every row, whole
+  tri(0, 0, 64, 128, 0, 128, 0.1);
+  uint32_t small = 0;
+  for (int y = 4; y < H; y += 8, small += 1) tri(60.3, y - 3.2, 67.7, y - 2.9, 63.1, y + 3.4, 0.5);  // across x = 64 only
+  for (int y = 16; y < H; y += 16)
+    for (int x = 88; x < W; x += 16, small += 1)  // across block corners, at depths in turn
+      tri(x - 3.6, y - 3.3, x + 3.7, y - 2.8, x + 0.4, y + 3.5, 0.2 + 0.1 * ((x / 16 + y / 16) % 5));
+  const Scene s = trianglesScene(p, idx);
+  RenderSettings rs;
+  rs.width = W;
+  rs.height = H;
+  rs.wantPrimId = true;
+  rs.wantDepth = true;
+  rs.raster = RasterMethod::Binned;
+  const Frame ref = renderFrame(s, identityCamera(), rs);
+  rs.raster = RasterMethod::VisBuffer;
+  rs.shadeRun = 1;  // the interleaved shading, which reads the block tags
+  Renderer r(s);
+  const FrameStats st = r.render(identityCamera(), rs);
+  CHECK(st.rasterWork == 2 * 128 + small);  // the occluder's blocks (its box: 8x16 each), one item per small box
+  REQUIRE(r.primIdsBottomUp() == ref.ids);
+  REQUIRE(r.depthBottomUp() == ref.depth);
+  size_t seenRight = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 64; x < 68; ++x) seenRight += ref.ids[size_t(y) * W + x] > 2;
+  CHECK(seenRight > 100);  // the column's right halves show
+}
