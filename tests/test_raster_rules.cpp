@@ -531,6 +531,24 @@ TEST_CASE("a rectangle outside a triangle's edges holds none of its pixels", "[r
   CHECK(wrong == 0);
 }
 
+// Triangles at window positions (pixels, y up) and NDC depths, for a scene
+// drawn with identityCamera() into a w x h frame.
+struct WindowTriangles {
+  int w, h;
+  std::vector<rast::float3> p;
+  std::vector<uint32_t> idx;
+  WindowTriangles(int width, int height) : w(width), h(height) {}
+  void add(double ax, double ay, double az, double bx, double by, double bz, double cx, double cy, double cz) {
+    const uint32_t b = uint32_t(p.size());
+    p.push_back(windowToNdc(ax, ay, az, w, h));
+    p.push_back(windowToNdc(bx, by, bz, w, h));
+    p.push_back(windowToNdc(cx, cy, cz, w, h));
+    idx.insert(idx.end(), {b, b + 1, b + 2});
+  }
+  void add(double ax, double ay, double bx, double by, double cx, double cy, double z) { add(ax, ay, z, bx, by, z, cx, cy, z); }
+  Scene scene() const { return trianglesScene(p, idx); }
+};
+
 // The visbuffer raster finds each work item's triangle between search hints
 // the setup writes (raster_common.h, workHint): every kWorkHintItems-th
 // item's triangle, tagged with the frame. A large triangle writes only the
@@ -541,22 +559,15 @@ TEST_CASE("a rectangle outside a triangle's edges holds none of its pixels", "[r
 TEST_CASE("the visbuffer raster finds every item's triangle: large triangles among small ones, frame after frame",
           "[raster][hints]") {
   const int W = 640, H = 480;
-  std::vector<rast::float3> p;
-  std::vector<uint32_t> idx;
-  auto tri = [&](double ax, double ay, double bx, double by, double cx, double cy, double z) {
-    const uint32_t b = uint32_t(p.size());
-    p.push_back(windowToNdc(ax, ay, z, W, H));
-    p.push_back(windowToNdc(bx, by, z, W, H));
-    p.push_back(windowToNdc(cx, cy, z, W, H));
-    idx.insert(idx.end(), {b, b + 1, b + 2});
-  };
+  WindowTriangles tris{W, H};
+  auto tri = [&](auto... a) { tris.add(a...); };
   for (int i = 0; i < 60; ++i) tri(8 + 10 * i, 4, 15 + 10 * i, 5, 10 + 10 * i, 12, 0.1);  // small, in front
   tri(10, 20, 630, 30, 320, 470, 0.5);          // about 4,300 items: 17 hints, 15 of them left unwritten
   for (int i = 0; i < 40; ++i) tri(20 + 15 * i, 440, 31 + 15 * i, 441, 25 + 15 * i, 452, 0.2);
   tri(40, 100, 300, 110, 170, 300, 0.3);        // about 1,000 items: 4 hints, all written
   tri(330, 380, 600, 60, 620, 400, 0.6);        // large again, partly behind the first
   for (int i = 0; i < 30; ++i) tri(100 + 12 * i, 200, 109 + 12 * i, 202, 104 + 12 * i, 210, 0.05);
-  const Scene s = trianglesScene(p, idx);
+  const Scene s = tris.scene();
   RenderSettings rs;
   rs.width = W;
   rs.height = H;
@@ -592,15 +603,8 @@ TEST_CASE("the visbuffer raster finds every item's triangle: large triangles amo
 TEST_CASE("occluders: layers back to front, crossing, two float steps apart and level give the naive raster's ids and depth",
           "[raster][hiz]") {
   const int W = 640, H = 480;
-  std::vector<rast::float3> p;
-  std::vector<uint32_t> idx;
-  auto tri = [&](double ax, double ay, double az, double bx, double by, double bz, double cx, double cy, double cz) {
-    const uint32_t b = uint32_t(p.size());
-    p.push_back(windowToNdc(ax, ay, az, W, H));
-    p.push_back(windowToNdc(bx, by, bz, W, H));
-    p.push_back(windowToNdc(cx, cy, cz, W, H));
-    idx.insert(idx.end(), {b, b + 1, b + 2});
-  };
+  WindowTriangles tris{W, H};
+  auto tri = [&](auto... a) { tris.add(a...); };
   auto quad = [&](double x0, double y0, double x1, double y1, double z00, double z10, double z01, double z11) {
     tri(x0, y0, z00, x1, y0, z10, x1, y1, z11);
     tri(x0, y0, z00, x1, y1, z11, x0, y1, z01);
@@ -619,7 +623,7 @@ TEST_CASE("occluders: layers back to front, crossing, two float steps apart and 
   quad(60, 60, 320, 320, step, step, step, step);
   quad(50, 50, 310, 310, step, step, step, step);
   for (int i = 0; i < 40; ++i) tri(330 + 7 * i, 350, 0.02, 336 + 7 * i, 352, 0.02, 332 + 7 * i, 360, 0.02);
-  const Scene s = trianglesScene(p, idx);
+  const Scene s = tris.scene();
   RenderSettings rs;
   rs.width = W;
   rs.height = H;
@@ -657,15 +661,8 @@ TEST_CASE("occluders: layers back to front, crossing, two float steps apart and 
 TEST_CASE("small boxes are one visbuffer item each, tag every block they draw in, and hide only behind all of them",
           "[raster][hiz]") {
   const int W = 256, H = 128;
-  std::vector<rast::float3> p;
-  std::vector<uint32_t> idx;
-  auto tri = [&](double ax, double ay, double bx, double by, double cx, double cy, double z) {
-    const uint32_t b = uint32_t(p.size());
-    p.push_back(windowToNdc(ax, ay, z, W, H));
-    p.push_back(windowToNdc(bx, by, z, W, H));
-    p.push_back(windowToNdc(cx, cy, z, W, H));
-    idx.insert(idx.end(), {b, b + 1, b + 2});
-  };
+  WindowTriangles tris{W, H};
+  auto tri = [&](auto... a) { tris.add(a...); };
   tri(0, 0, 64, 0, 64, 128, 0.1);  // the occluder: blocks 0..7 of every row, whole
   tri(0, 0, 64, 128, 0, 128, 0.1);
   uint32_t small = 0;
@@ -673,7 +670,7 @@ TEST_CASE("small boxes are one visbuffer item each, tag every block they draw in
   for (int y = 16; y < H; y += 16)
     for (int x = 88; x < W; x += 16, small += 1)  // across block corners, at depths in turn
       tri(x - 3.6, y - 3.3, x + 3.7, y - 2.8, x + 0.4, y + 3.5, 0.2 + 0.1 * ((x / 16 + y / 16) % 5));
-  const Scene s = trianglesScene(p, idx);
+  const Scene s = tris.scene();
   RenderSettings rs;
   rs.width = W;
   rs.height = H;
