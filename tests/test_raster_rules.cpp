@@ -551,20 +551,25 @@ struct WindowTriangles {
 
 // The visbuffer raster finds each work item's triangle between search hints
 // the setup writes (raster_common.h, workHint): every kWorkHintItems-th
-// item's triangle, tagged with the frame. A large triangle writes only the
-// first and last hints of its items, so its interior's are whatever an
-// earlier frame (or the zeroed buffer) left: the tag must reject them. Large
-// triangles between small ones, drawn by one renderer from three cameras
-// that move the items, must give the ids and depth of the naive raster.
+// item's triangle, tagged with the frame. A triangle spanning more than
+// kWorkHintsWritten hints writes only the first and last hints of its items,
+// so its interior's are whatever an earlier frame (or the zeroed buffer)
+// left: the tag must reject them. Large triangles between small ones, drawn
+// by one renderer from three cameras that move the items, must give the ids
+// and depth of the naive raster. (Coordinates are given for 640x480 and
+// scaled, so that the first large triangle spans more hints than are written.)
 TEST_CASE("the visbuffer raster finds every item's triangle: large triangles among small ones, frame after frame",
           "[raster][hints]") {
-  const int W = 640, H = 480;
+  const int W = 1600, H = 1200;
+  const double k = W / 640.0;
   WindowTriangles tris{W, H};
-  auto tri = [&](auto... a) { tris.add(a...); };
+  auto tri = [&](double ax, double ay, double bx, double by, double cx, double cy, double z) {
+    tris.add(k * ax, k * ay, k * bx, k * by, k * cx, k * cy, z);
+  };
   for (int i = 0; i < 60; ++i) tri(8 + 10 * i, 4, 15 + 10 * i, 5, 10 + 10 * i, 12, 0.1);  // small, in front
-  tri(10, 20, 630, 30, 320, 470, 0.5);          // about 4,300 items: 17 hints, 15 of them left unwritten
+  tri(10, 20, 630, 30, 320, 470, 0.5);          // about 27,000 items: 107 hints, 105 of them left unwritten
   for (int i = 0; i < 40; ++i) tri(20 + 15 * i, 440, 31 + 15 * i, 441, 25 + 15 * i, 452, 0.2);
-  tri(40, 100, 300, 110, 170, 300, 0.3);        // about 1,000 items: 4 hints, all written
+  tri(40, 100, 300, 110, 170, 300, 0.3);        // about 5,200 items: 20 hints, all written
   tri(330, 380, 600, 60, 620, 400, 0.6);        // large again, partly behind the first
   for (int i = 0; i < 30; ++i) tri(100 + 12 * i, 200, 109 + 12 * i, 202, 104 + 12 * i, 210, 0.05);
   const Scene s = tris.scene();
@@ -577,13 +582,14 @@ TEST_CASE("the visbuffer raster finds every item's triangle: large triangles amo
   int covered = 0;
   for (const double shift : {0.0, 37.0, -61.0}) {
     Camera cam = identityCamera();
-    cam.viewProjOverride = glm::translate(glm::dmat4(1.0), glm::dvec3(2.0 * shift / W, 1.4 * shift / H, 0.0));
+    cam.viewProjOverride = glm::translate(glm::dmat4(1.0), glm::dvec3(2.0 * k * shift / W, 1.4 * k * shift / H, 0.0));
     INFO("shift " << shift);
     rs.raster = RasterMethod::Naive;
     const Frame ref = renderFrame(s, cam, rs);
     rs.raster = RasterMethod::VisBuffer;
     const FrameStats st = r.render(cam, rs);
-    REQUIRE(st.rasterWork > 6 * kWorkHintItems);  // the large triangles span many hints
+    // The large triangles span more hints than a triangle writes.
+    REQUIRE(st.rasterWork > (kWorkHintsWritten + 8) * kWorkHintItems);
     REQUIRE(r.primIdsBottomUp() == ref.ids);
     REQUIRE(r.depthBottomUp() == ref.depth);
     for (uint32_t id : ref.ids) covered += id != 0;
