@@ -253,9 +253,9 @@ inline uint32_t visBlocks(const Viewport& vp, int32_t& blocksPerRow) {  // block
 // view from inside a dense model has many triangles of thousands of items
 // among tens of thousands (on the H100, 64 instead of 4 took engine_inside's
 // raster from 99 to 90 us and overdraw's from 85 to 82; milktruck_cab, whose
-// largest span 5 to 64 hints, and bigtri, whose two span more, were even;
-// box's setup took 0.3 us more). All of them, for any size, cost bigtri's
-// setup 2.4 us: a single thread writing a clipped piece's hundreds.
+// largest triangles span 5 to 64 hints, and bigtri, whose two span more,
+// were even; box's setup took 0.3 us more). All of them, for any size, cost
+// bigtri's setup 2.4 us: a single thread writing a clipped piece's hundreds.
 constexpr int kWorkHintShift = 8;
 constexpr uint32_t kWorkHintItems = 1u << kWorkHintShift;
 constexpr uint32_t kWorkHintsWritten = 64;  // a triangle spanning more writes its first and last only
