@@ -44,6 +44,14 @@ struct TriFrag {
   float invW[3] = {0.0f, 0.0f, 0.0f};
   float corner[3][2] = {{0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f}};  // RasterTri::bary
   float3 eye{0.0f, 0.0f, 0.0f};
+  // The lit kernel's edge values at the centre of pixel (X, evY) of its
+  // column: set from the edge functions once per triangle, then stepped by
+  // B from row to row (exact integers, the same values as eval), so that a
+  // pixel's weights cost no 64-bit multiplications (on the H100 with the
+  // colour-less instance, shade_stage.cpp: milktruck_cab's shading 67.9 ->
+  // 67.2 us, bigtri 44.8 -> 43.7, engine 24.6 -> 25.3; docs/performance.md).
+  int64_t ev[3] = {0, 0, 0};
+  int32_t evY = 0;
 };
 
 struct Shade {
@@ -105,9 +113,15 @@ struct Shade {
   // which is what the derivatives need.
   KOKKOS_INLINE_FUNCTION void bary(const TriFrag& t, const Edges& e, int32_t X, int32_t Y, int32_t ox, int32_t oy,
                                    float& b0, float& b1, float& b2) const {
-    const float l0 = float(e.atSample(1, e.eval(1, X, Y), ox, oy)) * t.invArea;
-    const float l1 = float(e.atSample(2, e.eval(2, X, Y), ox, oy)) * t.invArea;
-    const float l2 = float(e.atSample(0, e.eval(0, X, Y), ox, oy)) * t.invArea;
+    baryFrom(t, e.atSample(0, e.eval(0, X, Y), ox, oy), e.atSample(1, e.eval(1, X, Y), ox, oy),
+             e.atSample(2, e.eval(2, X, Y), ox, oy), b0, b1, b2);
+  }
+  // The same from the exact edge values E0, E1, E2 at the point.
+  KOKKOS_INLINE_FUNCTION void baryFrom(const TriFrag& t, int64_t E0, int64_t E1, int64_t E2, float& b0, float& b1,
+                                       float& b2) const {
+    const float l0 = float(E1) * t.invArea;
+    const float l1 = float(E2) * t.invArea;
+    const float l2 = float(E0) * t.invArea;
     float w0 = l0, w1 = l1, w2 = l2;
     if (p.perspective) {
       w0 *= t.invW[0];
@@ -188,7 +202,10 @@ struct Shade {
   // kLit: the caller knows the frame is lit (Lambert or Blinn-Phong) with a
   // nearest or bilinear filter (litOnly()), and the other modes' code is left
   // out of its kernel.
-  template <bool kLit = false>
+  // kColor: whether the scene has vertex colours, when known at compile time
+  // (-1: hasColor says). The lit kernel is built for each, so that the
+  // vertex colours hold no registers where there are none.
+  template <bool kLit = false, int kColor = -1>
   KOKKOS_INLINE_FUNCTION float4 shadeFragment(const TriFrag& f, int32_t X, int32_t Y, int32_t ox, int32_t oy, float depth,
                                               float3* normalOutV, float3* posOutV = nullptr) const {
     if (!kLit && p.mode == ShadingMode::Depth) {
@@ -199,7 +216,10 @@ struct Shade {
     if (f.index & kLineFlag) return lineShade.color(f.index & ~kLineFlag);
     const Edges& e = f.e;
     float b0, b1, b2;
-    bary(f, e, X, Y, ox, oy, b0, b1, b2);
+    if (kLit)  // a pixel centre (ox = oy = 0) of row f.evY (useAt)
+      baryFrom(f, f.ev[0], f.ev[1], f.ev[2], b0, b1, b2);
+    else
+      bary(f, e, X, Y, ox, oy, b0, b1, b2);
 
     if (!kLit && p.mode == ShadingMode::TexCoord) {
       // Texture coordinates as raw red/green (fractional part); black without any.
@@ -241,7 +261,7 @@ struct Shade {
       const float l = lod / 8.0f;  // level 0 black, level 8 full red
       return float4{l, 0.0f, 0.0f, 1.0f};
     }
-    if (hasColor) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
+    if (kColor < 0 ? hasColor != 0 : kColor == 1) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
 
     const float3 V = normalize(f.eye - P);
     float diffuse = p.ambient, spec = 0.0f;
@@ -332,7 +352,7 @@ struct Shade {
     const uint32_t X = (tile - ty * cols) * kLanes + w % kLanes, Y = ty * uint32_t(kShadeInterleave);
     return Column{Y * uint32_t(width) + X, X, Y};
   }
-  template <bool kLit = false>
+  template <bool kLit = false, int kColor = -1>
   KOKKOS_INLINE_FUNCTION void shadeInterleaved(const uint32_t w) const {
     // A key in a block the raster left alone this frame is clear: not read
     // (p.blockFrames), which saves most of the frame's reads behind a model.
@@ -354,13 +374,26 @@ struct Shade {
       // Each pixel takes keys[0], and the rest move down a place: indexed by
       // the loop's k (not unrolled, the shader being long), the keys went to
       // the stack, and selects were turned back into that.
-      shadeSingle<kLit>(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[0]);
+      shadeSingle<kLit, kColor>(int64_t(at.i + k * uint32_t(width)), int32_t(at.X), int32_t(at.Y + k), f, keys[0]);
       for (uint32_t q = 0; q + 1 < uint32_t(kShadeInterleave); ++q) keys[q] = keys[q + 1];
     }
   }
 
   KOKKOS_INLINE_FUNCTION void use(uint32_t index, TriFrag& f) const {
     if (index != f.index) prepare(index, f);
+  }
+  // use() for the lit kernel at pixel (X, Y): the edge values there too
+  // (TriFrag::ev), evaluated for a new triangle, else stepped from the row
+  // before (a thread walks down a column).
+  KOKKOS_INLINE_FUNCTION void useAt(uint32_t index, TriFrag& f, int32_t X, int32_t Y) const {
+    if (index != f.index) {
+      prepare(index, f);
+      if (index & kLineFlag) return;
+      for (int i = 0; i < 3; ++i) f.ev[i] = f.e.eval(i, X, Y);
+    } else if (Y != f.evY) {
+      for (int i = 0; i < 3; ++i) f.ev[i] += f.e.B[i] * (Y - f.evY);
+    }
+    f.evY = Y;
   }
 
   // Outputs of every pixel: ids and depth of its first sample (as OpenGL
@@ -373,7 +406,7 @@ struct Shade {
   }
 
   // One sample per pixel, its key already loaded.
-  template <bool kLit = false>
+  template <bool kLit = false, int kColor = -1>
   KOKKOS_INLINE_FUNCTION void shadeSingle(const int64_t i, const int32_t X, const int32_t Y, TriFrag& f,
                                           const uint64_t key0) const {
     // The next frame's clear, while the key is at hand (FrameBuffers::visClear);
@@ -383,11 +416,14 @@ struct Shade {
     writeIds(i, key0);
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
-    if (idx0) use(idx0 - 1, f);
+    if (idx0) {
+      if (kLit) useAt(idx0 - 1, f, X, Y);
+      else use(idx0 - 1, f);
+    }
     if (!kLit && p.floatOut)
       hdr(i) = idx0 ? shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
     else
-      color(i) = idx0 ? display<kLit>(shadeFragment<kLit>(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
+      color(i) = idx0 ? display<kLit>(shadeFragment<kLit, kColor>(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
                       : p.backgroundPacked;
     if (p.wantNormals) normalOut(i) = n0;
     if (!kLit && p.wantGeom) writeGeometry(i, viewGeometry(n0, p0));
@@ -450,10 +486,10 @@ struct Shade {
 // The interleaved layout as a kernel of its own: compiled into one kernel with
 // the runs along rows, the shader spilled 400 bytes a thread under the register
 // cap (152 alone).
-template <bool kLit>
+template <bool kLit, int kColor = -1>
 struct ShadeInterleaved {
   Shade k;
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const { k.shadeInterleaved<kLit>(uint32_t(item)); }
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const { k.shadeInterleaved<kLit, kColor>(uint32_t(item)); }
 };
 
 }  // namespace shading

@@ -54,10 +54,15 @@ bool launchShade(Shade k, int samples, const Range& items) {
   // modes' code: a third of the general kernel's instructions (1,617 against
   // 5,488 in its SASS), with fewer branches a pixel; the H100's frames were
   // 1-4% faster (milktruck_cab 0.1626 -> 0.1566 ms, engine 0.1286 -> 0.1246;
-  // docs/performance.md). The same arithmetic: the same bytes.
-  if (k.interleaved && k.litOnly() && !generalShadeForTests)
+  // docs/performance.md). The same arithmetic: the same bytes. It is built
+  // twice, with and without vertex colours, so that a scene without them
+  // (every benchmark model) keeps no registers for them.
+  if (k.interleaved && k.litOnly() && !generalShadeForTests && k.hasColor)
     Kokkos::parallel_for("rast::shade::lit", lightweight(Bounded(items.begin(), items.end())),
-                         shading::ShadeInterleaved<true>{k});
+                         shading::ShadeInterleaved<true, 1>{k});
+  else if (k.interleaved && k.litOnly() && !generalShadeForTests)
+    Kokkos::parallel_for("rast::shade::lit", lightweight(Bounded(items.begin(), items.end())),
+                         shading::ShadeInterleaved<true, 0>{k});
   else if (k.interleaved)
     Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), shading::ShadeInterleaved<false>{k});
   else
