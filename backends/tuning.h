@@ -97,5 +97,17 @@ constexpr int kRasterRowGroup = 8;
 // per multiprocessor}; {256, 2} caps it at 128 registers a thread on NVIDIA's
 // 64K-register multiprocessors. Ignored by host backends.
 constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
+// Scenes of more draws than this (and at most 65,536) get a table from each
+// drawn triangle and drawn vertex to its draw (DeviceScene::triDraw,
+// vertDraw): one load instead of a binary search over the draws' starts, a
+// chain of dependent loads per vertex, triangle and shaded triangle (seven
+// for engine's 115 draws). Fewer draws search a few entries; 2 bytes a
+// triangle and a vertex are then not worth it. On the H100 (1080p, same-run
+// A/B): engine 0.1158 -> 0.1114 ms (vertex, setup and shading each 1-2 us
+// faster), engine_inside 0.1945 -> 0.1871; tables for every scene of two or
+// more draws gave milktruck_cab 1 us of shading and nothing else measurable.
+// tiny (one draw, no table) shaded 3 us slower in every build with them, which
+// its code path does not explain (docs/performance.md).
+constexpr uint32_t kDrawTableMinDraws = 16;
 
 }  // namespace rast

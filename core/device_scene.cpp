@@ -72,6 +72,15 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.draws = uploadVec("scene.draws", draws);
   d.drawTriStart = uploadVec("scene.drawTriStart", triStart);
   d.drawVertStart = uploadVec("scene.drawVertStart", vertStart);
+  if (drawTables(draws.size())) {
+    std::vector<uint16_t> triDraw(d.numTris), vertDraw(d.numVerts);
+    for (size_t k = 0; k < draws.size(); ++k) {
+      std::fill_n(triDraw.begin() + draws[k].dstTri, draws[k].triCount, uint16_t(k));
+      std::fill_n(vertDraw.begin() + draws[k].dstVertex, draws[k].vertexCount, uint16_t(k));
+    }
+    d.triDraw = uploadVec("scene.triDraw", triDraw);
+    d.vertDraw = uploadVec("scene.vertDraw", vertDraw);
+  }
   d.uploadLinesAndPoints(s);
 
   std::vector<MaterialGPU> mats;
@@ -139,7 +148,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 
 size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
-         viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(materials) +
+         viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
          viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
          viewBytes(points);
 }

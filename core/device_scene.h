@@ -17,6 +17,9 @@ struct DeviceScene {
   DView<DrawGPU> draws;
   DView<uint32_t> drawTriStart;   // dstTri of each draw, for triangle -> draw lookup
   DView<uint32_t> drawVertStart;  // dstVertex of each draw, for vertex -> draw lookup
+  // The same lookups as tables, for scenes of many draws (kDrawTableMinDraws);
+  // empty otherwise. drawOf() takes either.
+  DView<uint16_t> triDraw, vertDraw;
   DView<MaterialGPU> materials;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;  // all textures, sRGB RGBA8
@@ -55,5 +58,15 @@ KOKKOS_INLINE_FUNCTION uint32_t findRange(const DView<uint32_t>& starts, uint32_
   }
   return lo;
 }
+// The draw of drawn triangle or vertex `key`: from its table when the scene
+// has one (DeviceScene::triDraw, vertDraw), else findRange over the starts.
+// The same draw either way (an empty draw owns no key).
+KOKKOS_INLINE_FUNCTION uint32_t drawOf(const DView<uint16_t>& table, const DView<uint32_t>& starts, uint32_t n,
+                                       uint32_t key) {
+  if (n <= 1) return 0;
+  return table.data() ? uint32_t(table(key)) : findRange(starts, n, key);
+}
+// Whether a scene of `draws` draws gets the tables.
+inline bool drawTables(uint64_t draws) { return draws > kDrawTableMinDraws && draws <= 65536; }
 
 }  // namespace rast

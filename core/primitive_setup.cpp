@@ -39,6 +39,7 @@ namespace {
 struct SetupCommon {
   DView<DrawGPU> draws;
   DView<uint32_t> drawTriStart;
+  DView<uint16_t> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
   DView<uint32_t> indices;
   DView<float4> clip;
   DView<SnapVert> snap;
@@ -49,7 +50,7 @@ struct SetupCommon {
 
   // Drawn-vertex indices of drawn triangle t's corners.
   KOKKOS_INLINE_FUNCTION void corners(uint32_t t, uint32_t (&vi)[3], bool& frontCCW) const {
-    const uint32_t d = findRange(drawTriStart, numDraws, t);
+    const uint32_t d = drawOf(triDraw, drawTriStart, numDraws, t);
     const DrawGPU& dr = draws(d);
     const uint32_t base = 3 * (dr.srcTri + (t - dr.dstTri));
     for (int k = 0; k < 3; ++k) vi[k] = dr.dstVertex + indices(base + k);
@@ -631,7 +632,7 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool n
     ensureCapacity(f.occTri, "frame.occTri", f.triCapacity);
     occ = OccluderList{f.occCount.data(), f.occStart.data(), f.occTri.data(), f.triCapacity};
   }
-  SetupCommon c{s.draws, s.drawTriStart, s.indices, f.clip, f.snap, s.numDraws, f.vp,
+  SetupCommon c{s.draws, s.drawTriStart, s.triDraw, s.indices, f.clip, f.snap, s.numDraws, f.vp,
                 guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
   if (chunks > 0 && !kOnDevice && gpuSetupTeamsForTests > 0) {
     launchSetup<false>(c, f, chunks, s.numTris, numberBlocks, gpuSetupTeamsForTests, occ);

@@ -58,6 +58,7 @@ struct Shade {
   // scene
   DView<DrawGPU> draws;
   DView<uint32_t> drawTriStart, indices;
+  DView<uint16_t> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
   DView<float2> uvs;
   DView<float4> colors;
   DView<MaterialGPU> materials;
@@ -158,7 +159,7 @@ struct Shade {
       f.corner[k][1] = t.bary[k][1];
     }
     f.eye = p.frame(0).camera.eye;
-    const uint32_t d = findRange(drawTriStart, numDraws, t.prim);
+    const uint32_t d = drawOf(triDraw, drawTriStart, numDraws, t.prim);
     const DrawGPU& dr = draws(d);
     const uint32_t base = 3 * (dr.srcTri + (t.prim - dr.dstTri));
     const uint32_t i0 = indices(base), i1 = indices(base + 1), i2 = indices(base + 2);

@@ -130,7 +130,7 @@ Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
     Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.frame, f.vp.samples.count},
                             Kokkos::MinMax<float, Mem>(f.depthRange));
   }
-  Shade k{s.draws, s.drawTriStart, s.indices, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncodePacked,
+  Shade k{s.draws, s.drawTriStart, s.indices, s.triDraw, s.uvs, s.colors, s.materials, s.textures, s.texels, s.srgbToLinear, s.srgbEncodePacked,
           s.numDraws, s.hasUV ? 1 : 0, s.hasColor ? 1 : 0, f.tris, f.vis, f.worldPos, f.worldNormal, f.color,
           f.depth, f.primId, f.normal, f.post.hdr, f.post.geom, f.post.depth, lights, f.depthRange, f.vp.width, f.vp.samples, p,
           makeLineShade(s, f.lines), 1, 1};

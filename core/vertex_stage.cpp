@@ -24,6 +24,7 @@ template <bool kWorld>
 struct TransformVertices {
   DView<DrawGPU> draws;
   DView<uint32_t> drawVertStart;
+  DView<uint16_t> vertDraw;  // DeviceScene::vertDraw (empty: search drawVertStart)
   uint32_t numDraws;
   DView<mat4f> mvp;
   DView<float3> positions, normals;
@@ -34,7 +35,7 @@ struct TransformVertices {
   float gx, gy;
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t v) const {
-    const uint32_t d = findRange(drawVertStart, numDraws, v);
+    const uint32_t d = drawOf(vertDraw, drawVertStart, numDraws, v);
     const DrawGPU& dr = draws(d);
     const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
     const float3 p = positions(src);
@@ -112,11 +113,11 @@ void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld) {
   if (needWorld) {
     ensureCapacity(f.worldPos, "frame.worldPos", s.numVerts);
     ensureCapacity(f.worldNormal, "frame.worldNormal", s.numVerts);
-    launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.numDraws, f.mvp, s.positions,
+    launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
                                                         s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
                                 s.numVerts);
   } else {
-    launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.numDraws, f.mvp, s.positions,
+    launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
                                                          s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
                                 s.numVerts);
   }
