@@ -53,14 +53,6 @@ Scene manyDraws(int draws) {
   return s;
 }
 
-template <class T>
-std::vector<T> toHost(const DView<T>& v) {
-  std::vector<T> out(v.extent(0));
-  Kokkos::View<T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(out.data(), out.size());
-  Kokkos::deep_copy(h, v);
-  return out;
-}
-
 // The search's answer: the last draw whose start is at or before key.
 uint32_t searched(const std::vector<uint32_t>& starts, uint32_t key) {
   return uint32_t(std::upper_bound(starts.begin(), starts.end(), key) - starts.begin()) - 1;
@@ -78,8 +70,8 @@ TEST_CASE("draw tables name the draw the search names", "[draws]") {
   REQUIRE(d.numDraws == 40);
   REQUIRE(d.triDraw.extent(0) == d.numTris);
   REQUIRE(d.vertDraw.extent(0) == d.numVerts);
-  const std::vector<uint16_t> triDraw = toHost(d.triDraw), vertDraw = toHost(d.vertDraw);
-  const std::vector<uint32_t> triStart = toHost(d.drawTriStart), vertStart = toHost(d.drawVertStart);
+  const std::vector<uint16_t> triDraw = test::download(d.triDraw), vertDraw = test::download(d.vertDraw);
+  const std::vector<uint32_t> triStart = test::download(d.drawTriStart), vertStart = test::download(d.drawVertStart);
   size_t wrongTris = 0, wrongVerts = 0;
   for (uint32_t t = 0; t < d.numTris; ++t) wrongTris += triDraw[t] != searched(triStart, t);
   for (uint32_t v = 0; v < d.numVerts; ++v) wrongVerts += vertDraw[v] != searched(vertStart, v);

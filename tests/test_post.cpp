@@ -15,6 +15,7 @@
 #include <cmath>
 
 using namespace rast;
+using test::download;
 
 namespace {
 
@@ -24,13 +25,6 @@ DView<T> upload(const std::vector<T>& v) {
   Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(), v.size());
   Kokkos::deep_copy(d, h);
   return d;
-}
-template <class T>
-std::vector<T> download(const DView<T>& d) {
-  std::vector<T> v(d.extent(0));
-  Kokkos::View<T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(), v.size());
-  Kokkos::deep_copy(h, d);
-  return v;
 }
 
 // Two quads: a floor (y = 0) and, when `wall`, a back wall (z = -1) meeting it

@@ -2,6 +2,7 @@
 // scenes from triangles, find test data.
 #pragma once
 
+#include "core/device.h"
 #include "core/renderer.h"
 #include "core/scene.h"
 
@@ -9,6 +10,15 @@
 #include <vector>
 
 namespace rast::test {
+
+// A device view's contents on the host.
+template <class T>
+std::vector<T> download(const DView<T>& d) {
+  std::vector<T> v(d.extent(0));
+  Kokkos::View<T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(), v.size());
+  Kokkos::deep_copy(h, d);
+  return v;
+}
 
 struct Frame {
   int width = 0, height = 0;
