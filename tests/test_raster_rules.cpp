@@ -547,6 +547,15 @@ struct WindowTriangles {
   }
   void add(double ax, double ay, double bx, double by, double cx, double cy, double z) { add(ax, ay, z, bx, by, z, cx, cy, z); }
   Scene scene() const { return trianglesScene(p, idx); }
+  // The frame's settings: its size, with ids and depth.
+  RenderSettings settings() const {
+    RenderSettings rs;
+    rs.width = w;
+    rs.height = h;
+    rs.wantPrimId = true;
+    rs.wantDepth = true;
+    return rs;
+  }
 };
 
 // The visbuffer raster finds each work item's triangle between search hints
@@ -573,11 +582,7 @@ TEST_CASE("the visbuffer raster finds every item's triangle: large triangles amo
   tri(330, 380, 600, 60, 620, 400, 0.6);        // large again, partly behind the first
   for (int i = 0; i < 30; ++i) tri(100 + 12 * i, 200, 109 + 12 * i, 202, 104 + 12 * i, 210, 0.05);
   const Scene s = tris.scene();
-  RenderSettings rs;
-  rs.width = W;
-  rs.height = H;
-  rs.wantPrimId = true;
-  rs.wantDepth = true;
+  RenderSettings rs = tris.settings();
   Renderer r(s);
   int covered = 0;
   for (const double shift : {0.0, 37.0, -61.0}) {
@@ -630,11 +635,7 @@ TEST_CASE("occluders: layers back to front, crossing, two float steps apart and 
   quad(50, 50, 310, 310, step, step, step, step);
   for (int i = 0; i < 40; ++i) tri(330 + 7 * i, 350, 0.02, 336 + 7 * i, 352, 0.02, 332 + 7 * i, 360, 0.02);
   const Scene s = tris.scene();
-  RenderSettings rs;
-  rs.width = W;
-  rs.height = H;
-  rs.wantPrimId = true;
-  rs.wantDepth = true;
+  RenderSettings rs = tris.settings();
   Renderer r(s);
   size_t stepWins = 0;
   for (const double shift : {0.0, 23.0, -41.0, 5.0}) {
@@ -677,11 +678,7 @@ TEST_CASE("small boxes are one visbuffer item each, tag every block they draw in
     for (int x = 88; x < W; x += 16, small += 1)  // across block corners, at depths in turn
       tri(x - 3.6, y - 3.3, x + 3.7, y - 2.8, x + 0.4, y + 3.5, 0.2 + 0.1 * ((x / 16 + y / 16) % 5));
   const Scene s = tris.scene();
-  RenderSettings rs;
-  rs.width = W;
-  rs.height = H;
-  rs.wantPrimId = true;
-  rs.wantDepth = true;
+  RenderSettings rs = tris.settings();
   rs.raster = RasterMethod::Binned;
   const Frame ref = renderFrame(s, identityCamera(), rs);
   rs.raster = RasterMethod::VisBuffer;
