@@ -63,7 +63,7 @@ KOKKOS_INLINE_FUNCTION uint32_t findRange(const DView<uint32_t>& starts, uint32_
 // The same draw either way (an empty draw owns no key).
 KOKKOS_INLINE_FUNCTION uint32_t drawOf(const DView<uint16_t>& table, const DView<uint32_t>& starts, uint32_t n,
                                        uint32_t key) {
-  if (n <= 1) return 0;
+  if (n <= 1) return 0;  // findRange's answer too; one draw tests for no table
   return table.data() ? uint32_t(table(key)) : findRange(starts, n, key);
 }
 // Whether a scene of `draws` draws gets the tables.
