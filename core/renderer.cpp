@@ -58,6 +58,12 @@ uint64_t drawnVertices(const Scene& s) {
   return n;
 }
 
+// Device bytes of a raster triangle buffer of n entries and the buffers sized
+// with it: the triangle, its first work item (4 bytes), its search hint (8)
+// and its occluder candidacy (start and triangle, 4 each). One count for the
+// budget check before the first frame and for a buffer grown by clipping.
+uint64_t rasterTriBytes(uint64_t n) { return mulSat(n, sizeof(RasterTri) + 5 * sizeof(uint32_t)); }
+
 // What the device scene, the raster triangles of a first frame and the
 // vertex-stage buffers will take, checked before any of it is allocated: a
 // small file can draw one large mesh from many nodes.
@@ -77,7 +83,7 @@ const Scene& admitScene(const Scene& s, uint64_t budget) {
                     std::to_string(s.indices.size() / 3) + " triangles, " + std::to_string(texels) + " texels)",
                 sceneBytes);
   ledger.charge("the raster triangle buffer (" + std::to_string(s.triangleCount()) + " drawn triangles)",
-                mulSat(uint64_t(s.triangleCount()) + 1024, sizeof(RasterTri) + 5 * sizeof(uint32_t)));
+                rasterTriBytes(uint64_t(s.triangleCount()) + 1024));
   ledger.charge("the vertex stage buffers (" + std::to_string(drawnVertices(s)) + " drawn vertices)",
                 mulSat(drawnVertices(s), sizeof(float4) + sizeof(SnapVert) + 2 * sizeof(float3)));
   return s;
@@ -353,7 +359,7 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     MemoryLedger ledger(budget_);
     ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.tris));
     ledger.check("the raster triangle buffer (" + std::to_string(need) + " triangles after clipping)",
-                 mulSat(uint64_t(need) + need / 8, sizeof(RasterTri) + 4 * sizeof(uint32_t)));
+                 rasterTriBytes(uint64_t(need) + need / 8));
     frame_.triCapacity = need + need / 8;
     frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
     fit = false;
