@@ -44,6 +44,15 @@ constexpr bool runsOnDevice() {
 
 constexpr bool kOnDevice = runsOnDevice<Exec>();
 
+// Lanes of the build's GPU that run in lockstep: an AMD wavefront under HIP,
+// an NVIDIA warp otherwise (meaningless on host backends). For launch shapes
+// one SIMD group wide (backends/tuning.h).
+#if defined(RAST_EXEC_HIP)
+constexpr int kSimdWidth = 64;
+#else
+constexpr int kSimdWidth = 32;
+#endif
+
 // Backend, Kokkos version and parallelism, one "key: value" per line (the part
 // of deviceDescription() every backend shares).
 std::string describeExecSpace();

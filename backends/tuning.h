@@ -97,6 +97,16 @@ constexpr int kRasterRowGroup = 8;
 // per multiprocessor}; {256, 2} caps it at 128 registers a thread on NVIDIA's
 // 64K-register multiprocessors. Ignored by host backends.
 constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
+// The visbuffer raster's blocks (raster_visbuffer.cpp) on GPUs: one SIMD group
+// a block, {threads, blocks per multiprocessor}; on NVIDIA {32, 20}, a cap of
+// 102 registers that the kernel's 96 stay under. Its items cost from a few
+// instructions (a block outside its triangle) to a 64-pixel walk, and a block
+// holds its multiprocessor's slots until its slowest thread ends: a block a
+// warp frees them a warp at a time. On the H100 (1080p, three same-run A/Bs
+// against Kokkos' own block size): box 0.0661 -> 0.0630 ms, bigtri -0.3 to
+// -3.2 us, milktruck_cab -0.7 to -2.1 us, others within +-1 us; blocks of 64,
+// 128 and 256 gained nothing measurable (docs/performance.md).
+constexpr unsigned kRasterLaunchBounds[2] = {unsigned(kSimdWidth), 640u / unsigned(kSimdWidth)};
 // Scenes of more draws than this (and at most 65,536) get a table from each
 // drawn triangle and drawn vertex to its draw (DeviceScene::triDraw,
 // vertDraw): one load instead of a binary search over the draws' starts, a

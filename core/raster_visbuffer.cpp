@@ -183,7 +183,10 @@ void rasterVisBuffer(FrameBuffers& f, bool occluders) {
   if (pass)
     Kokkos::parallel_for("rast::raster::visbuffer::occluders", lightweight(Policy(0, threads)),
                          OccluderBounds{f.tris, f.occCount, f.occStart, f.occTri, f.blockDepth, bx, f.triCapacity, threads});
-  Kokkos::parallel_for("rast::raster::visbuffer::blocks", lightweight(Policy(0, threads)),
+  // Blocks of one SIMD group (kRasterLaunchBounds, backends/tuning.h).
+  using BlockPolicy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>,
+                                          Kokkos::LaunchBounds<kRasterLaunchBounds[0], kRasterLaunchBounds[1]>>;
+  Kokkos::parallel_for("rast::raster::visbuffer::blocks", lightweight(BlockPolicy(0, threads)),
                        RasterBlocks{f.tris, f.counters, f.workOffset, f.blockDepth, f.blockFrame, f.workHint, f.uniforms, f.vis,
                                     f.vp.width, bx, f.triCapacity, threads, f.vp.samples, f.occCount, pass ? 1 : 0});
 }
