@@ -57,10 +57,11 @@ bool launchShade(Shade k, int samples, const Range& items) {
   // docs/performance.md). The same arithmetic: the same bytes. It is built
   // twice, with and without vertex colours, so that a scene without them
   // (every benchmark model) keeps no registers for them.
-  if (k.interleaved && k.litOnly() && !generalShadeForTests && k.hasColor)
+  const bool lit = k.interleaved && k.litOnly() && !generalShadeForTests;
+  if (lit && k.hasColor)
     Kokkos::parallel_for("rast::shade::lit", lightweight(Bounded(items.begin(), items.end())),
                          shading::ShadeInterleaved<true, 1>{k});
-  else if (k.interleaved && k.litOnly() && !generalShadeForTests)
+  else if (lit)
     Kokkos::parallel_for("rast::shade::lit", lightweight(Bounded(items.begin(), items.end())),
                          shading::ShadeInterleaved<true, 0>{k});
   else if (k.interleaved)
