@@ -104,8 +104,9 @@ constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
 // holds its multiprocessor's slots until its slowest thread ends: a block a
 // warp frees them a warp at a time. On the H100 (1080p, three same-run A/Bs
 // against Kokkos' own block size): box 0.0661 -> 0.0630 ms, bigtri -0.3 to
-// -3.2 us, milktruck_cab -0.7 to -2.1 us, others within +-1 us; blocks of 64,
-// 128 and 256 gained nothing measurable (docs/performance.md).
+// -3.2 us, milktruck_cab -0.7 to -2.1 us, others -2.1 to +1.7 us with no sign
+// common to the runs; blocks of 64, 128 and 256 gained nothing measurable
+// (docs/performance.md). AMD's {64, 10} is one wavefront a block, unmeasured.
 constexpr unsigned kRasterLaunchBounds[2] = {unsigned(kSimdWidth), 640u / unsigned(kSimdWidth)};
 // Scenes of more draws than this (and at most 65,536) get a table from each
 // drawn triangle and drawn vertex to its draw (DeviceScene::triDraw,
