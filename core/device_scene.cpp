@@ -73,10 +73,10 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.drawTriStart = uploadVec("scene.drawTriStart", triStart);
   d.drawVertStart = uploadVec("scene.drawVertStart", vertStart);
   if (drawTables(draws.size())) {
-    std::vector<uint16_t> triDraw(d.numTris), vertDraw(d.numVerts);
+    std::vector<DrawIndex> triDraw(d.numTris), vertDraw(d.numVerts);
     for (size_t k = 0; k < draws.size(); ++k) {
-      std::fill_n(triDraw.begin() + draws[k].dstTri, draws[k].triCount, uint16_t(k));
-      std::fill_n(vertDraw.begin() + draws[k].dstVertex, draws[k].vertexCount, uint16_t(k));
+      std::fill_n(triDraw.begin() + draws[k].dstTri, draws[k].triCount, DrawIndex(k));
+      std::fill_n(vertDraw.begin() + draws[k].dstVertex, draws[k].vertexCount, DrawIndex(k));
     }
     d.triDraw = uploadVec("scene.triDraw", triDraw);
     d.vertDraw = uploadVec("scene.vertDraw", vertDraw);

@@ -6,7 +6,13 @@
 #include "gpu_types.h"
 #include "scene.h"
 
+#include <cstdint>
+#include <limits>
+
 namespace rast {
+
+// An entry of the draw tables (DeviceScene::triDraw, vertDraw): a draw index.
+using DrawIndex = uint16_t;
 
 struct DeviceScene {
   DView<float3> positions;  // object space, per source vertex
@@ -19,7 +25,7 @@ struct DeviceScene {
   DView<uint32_t> drawVertStart;  // dstVertex of each draw, for vertex -> draw lookup
   // The same lookups as tables, for scenes of many draws (kDrawTableMinDraws);
   // empty otherwise. drawOf() takes either.
-  DView<uint16_t> triDraw, vertDraw;
+  DView<DrawIndex> triDraw, vertDraw;
   DView<MaterialGPU> materials;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;  // all textures, sRGB RGBA8
@@ -61,12 +67,15 @@ KOKKOS_INLINE_FUNCTION uint32_t findRange(const DView<uint32_t>& starts, uint32_
 // The draw of drawn triangle or vertex `key`: from its table when the scene
 // has one (DeviceScene::triDraw, vertDraw), else findRange over the starts.
 // The same draw either way (an empty draw owns no key).
-KOKKOS_INLINE_FUNCTION uint32_t drawOf(const DView<uint16_t>& table, const DView<uint32_t>& starts, uint32_t n,
+KOKKOS_INLINE_FUNCTION uint32_t drawOf(const DView<DrawIndex>& table, const DView<uint32_t>& starts, uint32_t n,
                                        uint32_t key) {
   if (n <= 1) return 0;  // findRange's answer too; one draw tests for no table
   return table.data() ? uint32_t(table(key)) : findRange(starts, n, key);
 }
-// Whether a scene of `draws` draws gets the tables.
-inline bool drawTables(uint64_t draws) { return draws > kDrawTableMinDraws && draws <= 65536; }
+// Whether a scene of `draws` draws gets the tables: more than
+// kDrawTableMinDraws, and every draw's index fits an entry.
+inline bool drawTables(uint64_t draws) {
+  return draws > kDrawTableMinDraws && draws <= uint64_t(std::numeric_limits<DrawIndex>::max()) + 1;
+}
 
 }  // namespace rast

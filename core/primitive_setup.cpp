@@ -39,7 +39,7 @@ namespace {
 struct SetupCommon {
   DView<DrawGPU> draws;
   DView<uint32_t> drawTriStart;
-  DView<uint16_t> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
+  DView<DrawIndex> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
   DView<uint32_t> indices;
   DView<float4> clip;
   DView<SnapVert> snap;

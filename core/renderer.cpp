@@ -77,7 +77,7 @@ const Scene& admitScene(const Scene& s, uint64_t budget) {
   sceneBytes = addSat(sceneBytes, mulSat(s.draws.size(), sizeof(DrawGPU) + 2 * sizeof(uint32_t)));
   sceneBytes = addSat(sceneBytes, mulSat(texels, 2 * 4 * 4 / 3));  // device texels with mipmaps, host copy
   if (drawTables(s.draws.size()))  // triDraw, vertDraw (with a host copy each while uploading)
-    sceneBytes = addSat(sceneBytes, mulSat(addSat(s.triangleCount(), drawnVertices(s)), 2 * sizeof(uint16_t)));
+    sceneBytes = addSat(sceneBytes, mulSat(addSat(s.triangleCount(), drawnVertices(s)), 2 * sizeof(DrawIndex)));
   MemoryLedger ledger(budget);
   ledger.charge("the scene on the device (" + std::to_string(s.positions.size()) + " vertices, " +
                     std::to_string(s.indices.size() / 3) + " triangles, " + std::to_string(texels) + " texels)",

@@ -58,7 +58,7 @@ struct Shade {
   // scene
   DView<DrawGPU> draws;
   DView<uint32_t> drawTriStart, indices;
-  DView<uint16_t> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
+  DView<DrawIndex> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
   DView<float2> uvs;
   DView<float4> colors;
   DView<MaterialGPU> materials;

@@ -24,7 +24,7 @@ template <bool kWorld>
 struct TransformVertices {
   DView<DrawGPU> draws;
   DView<uint32_t> drawVertStart;
-  DView<uint16_t> vertDraw;  // DeviceScene::vertDraw (empty: search drawVertStart)
+  DView<DrawIndex> vertDraw;  // DeviceScene::vertDraw (empty: search drawVertStart)
   uint32_t numDraws;
   DView<mat4f> mvp;
   DView<float3> positions, normals;

@@ -70,7 +70,7 @@ TEST_CASE("draw tables name the draw the search names", "[draws]") {
   REQUIRE(d.numDraws == 40);
   REQUIRE(d.triDraw.extent(0) == d.numTris);
   REQUIRE(d.vertDraw.extent(0) == d.numVerts);
-  const std::vector<uint16_t> triDraw = test::download(d.triDraw), vertDraw = test::download(d.vertDraw);
+  const std::vector<DrawIndex> triDraw = test::download(d.triDraw), vertDraw = test::download(d.vertDraw);
   const std::vector<uint32_t> triStart = test::download(d.drawTriStart), vertStart = test::download(d.drawVertStart);
   size_t wrongTris = 0, wrongVerts = 0;
   for (uint32_t t = 0; t < d.numTris; ++t) wrongTris += triDraw[t] != searched(triStart, t);
