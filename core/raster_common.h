@@ -135,6 +135,15 @@ KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, 
 struct Edges {
   int64_t A[3], B[3], C[3];
   int64_t bias[3];  // 1 on top-left edges, else 0: inside means E_i + bias_i > 0
+  // The same functions as products of 32-bit factors, which eval() uses:
+  //   E_i(X, Y) = dx_i (256 Y + cy_i) + ndy_i (256 X + cx_i),
+  // ndy_i = -dy_i, cx_i = 128 - x_i, cy_i = 128 - y_i. Snapped coordinates lie
+  // within +-2^23 (kMaxWindowCoord in fixed point) and pixel coordinates below
+  // 2^14, so every factor fits in 32 bits and each product (below 2^48) is
+  // one widening multiply on a GPU: A_i X + B_i Y + C_i with 64-bit
+  // coefficients took about three times the instructions, and a GPU's
+  // item and shading set-ups evaluate edges a dozen times (same values).
+  int32_t dx[3], ndy[3], cx[3], cy[3];
 
   KOKKOS_DEFAULTED_FUNCTION Edges() = default;
   KOKKOS_INLINE_FUNCTION explicit Edges(const RasterTri& t) {
@@ -145,6 +154,10 @@ struct Edges {
       A[i] = -dy * kSubOne;
       B[i] = dx * kSubOne;
       C[i] = dx * (kSubHalf - int64_t(t.y[i])) - dy * (kSubHalf - int64_t(t.x[i]));
+      this->dx[i] = t.x[j] - t.x[i];
+      ndy[i] = t.y[i] - t.y[j];
+      cx[i] = kSubHalf - t.x[i];
+      cy[i] = kSubHalf - t.y[i];
       // Top-left rule, "top" as the image is stored and shown (rows top first,
       // as in D3D and in Mesa's llvmpipe under OpenGL): a pixel centre exactly
       // on an edge belongs to the triangle only for a left edge (going down in
@@ -156,7 +169,9 @@ struct Edges {
       bias[i] = (dy < 0 || (dy == 0 && dx > 0)) ? 1 : 0;
     }
   }
-  KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const { return A[i] * X + B[i] * Y + C[i]; }
+  KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const {
+    return int64_t(dx[i]) * int64_t(kSubOne * Y + cy[i]) + int64_t(ndy[i]) * int64_t(kSubOne * X + cx[i]);
+  }
   // Edge value at a sample offset (ox, oy) in 1/256 pixel from the pixel centre.
   KOKKOS_INLINE_FUNCTION int64_t atSample(int i, int64_t centre, int32_t ox, int32_t oy) const {
     return centre + (A[i] / kSubOne) * ox + (B[i] / kSubOne) * oy;

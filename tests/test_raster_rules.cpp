@@ -326,6 +326,31 @@ TEST_CASE("triangles beyond a side of the viewport are skipped before clipping, 
   }
 }
 
+TEST_CASE("edge values from 32-bit factors equal the 64-bit edge functions at the coordinate limits", "[raster][edges]") {
+  // Edges::eval multiplies 32-bit factors (a GPU's widening multiply); the
+  // setup keeps snapped vertices within +-kMaxWindowCoord pixels and pixel
+  // coordinates lie below kMaxFramebufferSide. At those limits and at random
+  // points in between, eval must equal A X + B Y + C exactly.
+  const int32_t lim = kMaxWindowCoord * kSubOne - 1;
+  const int32_t side = kMaxFramebufferSide - 1;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int32_t> coord(-lim, lim), pixel(0, side);
+  const int32_t corners[2] = {-lim, lim};
+  for (int n = 0; n < 2000; ++n) {
+    RasterTri t{};
+    for (int k = 0; k < 3; ++k) {
+      // The first 64 triangles take only the extremes; the rest random points.
+      t.x[k] = n < 64 ? corners[(n >> k) & 1] : coord(rng);
+      t.y[k] = n < 64 ? corners[(n >> (k + 3)) & 1] : coord(rng);
+    }
+    const Edges e(t);
+    const int32_t xs[4] = {0, side, pixel(rng), pixel(rng)}, ys[4] = {0, side, pixel(rng), pixel(rng)};
+    for (int i = 0; i < 3; ++i)
+      for (int32_t X : xs)
+        for (int32_t Y : ys) REQUIRE(e.eval(i, X, Y) == e.A[i] * X + e.B[i] * Y + e.C[i]);
+  }
+}
+
 TEST_CASE("huge coordinates do not overflow the fixed-point setup", "[raster][clip]") {
   // One triangle far larger than the guard band, around the view direction.
   const Scene s = trianglesScene({{-1e6f, -1e6f, -10}, {1e6f, -1e6f, -10}, {0, 1e6f, -10}}, {0, 1, 2});
