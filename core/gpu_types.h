@@ -42,7 +42,10 @@ struct SnapVert {
 
 // A triangle ready for rasterisation: a clipped, culled, snapped piece of one
 // drawn triangle, counter-clockwise (positive area) in window space.
-struct RasterTri {
+// 16-byte aligned (96 bytes, six 16-byte pieces, as the setup writes it):
+// a GPU then reads neighbouring fields in wide loads (the shader's inverse
+// area, primitive and corner barycentrics in two 16-byte loads, not eight).
+struct alignas(16) RasterTri {
   int32_t x[3], y[3];               // window position, fixed point with kSubBits fractional bits, y up
   int32_t minX, minY, maxX, maxY;   // pixels whose centres the bounding box holds, clamped to the viewport
   float z[3];                       // window depth
