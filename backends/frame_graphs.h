@@ -44,7 +44,14 @@ class FrameGraphs {
     const void* src;
     void* dst;
     size_t bytes;
+    uint32_t sequence;  // not 0, and not the previous upload's (the frame number)
   };
+
+  // Where the frame's first kernel may write the sequence of the upload it
+  // read (uploadSeen): a word of host memory the device can write, or null.
+  // Seeing there the sequence of what the staging buffer holds, the host
+  // refills it without waiting on the device (backend_cuda.cpp).
+  uint32_t* uploadSeen() const;
 
   // Enqueues the upload and launch()'s kernels on the execution space's
   // stream: by calling launch(), or by replaying its recording. launch() must

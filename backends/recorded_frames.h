@@ -85,6 +85,8 @@ class RecordedFrames {
     return false;
   }
 
+  const Api& api() const { return api_; }
+
   // The upload and launch() with no recording (recording turned off).
   void direct(const FrameGraphs::Upload& upload, const std::function<void()>& launch) {
     api_.stage(upload);

@@ -42,6 +42,7 @@ struct FrameBuffers {
   Viewport vp{0, 0, SamplePattern{}};
   DView<mat4f> uploaded;     // what a frame uploads: kUniformSlots of FrameUniforms, then the draws' MVPs
   DView<FrameUniforms> uniforms; // one: this frame's camera (in `uploaded`)
+  uint32_t* uploadSeen = nullptr; // host memory the vertex stage tells the frame number it read (FrameGraphs::uploadSeen), or null
   DView<mat4f> mvp;          // per draw: model-view-projection (in `uploaded`)
   DView<float4> clip;        // per drawn vertex
   DView<SnapVert> snap;      // per drawn vertex: window position, or why it needs clipping

@@ -97,6 +97,7 @@ Renderer::Renderer(const Scene& scene, uint64_t memoryBudget)
       scene_(DeviceScene::upload(admitScene(scene, budget_))),
       hostTextures_(scene.textures),
       graphs_(new FrameGraphs) {
+  frame_.uploadSeen = graphs_->uploadSeen();
   frame_.counters = allocZeroed<uint32_t>("frame.counters", kNumCounters);
   // Most triangles yield at most one raster triangle; clipping can yield more,
   // and then the buffer grows after the first frame that needs it.
@@ -237,7 +238,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   if (timer) timer->start();
   // The camera reaches the kernels through device memory, copied first; the
   // launches after it are the same from frame to frame for the same key.
-  graphs_->run(key, timer, visClear, {upload_.data(), frame_.uploaded.data(), upload_.size() * sizeof(mat4f)}, [&] {
+  graphs_->run(key, timer, visClear, {upload_.data(), frame_.uploaded.data(), upload_.size() * sizeof(mat4f), u.frame}, [&] {
     frame_.visClear = visClear != 0;
     launchFrame(rs, needWorld, film, timer);
     visClear = frame_.visClear ? 1 : 0;

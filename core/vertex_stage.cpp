@@ -33,8 +33,13 @@ struct TransformVertices {
   DView<float3> worldPos, worldNormal;
   Viewport vp;
   float gx, gy;
+  DView<FrameUniforms> frame;
+  uint32_t* uploadSeen;  // FrameBuffers::uploadSeen (GPUs)
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t v) const {
+    // The upload this frame read is out of the staging buffer (the copy came
+    // before this kernel): the host may refill it (backends/backend_cuda.cpp).
+    if (v == 0 && uploadSeen) *uploadSeen = frame(0).frame;
     const uint32_t d = drawOf(vertDraw, drawVertStart, numDraws, v);
     const DrawGPU& dr = draws(d);
     const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
@@ -114,11 +119,13 @@ void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld) {
     ensureCapacity(f.worldPos, "frame.worldPos", s.numVerts);
     ensureCapacity(f.worldNormal, "frame.worldNormal", s.numVerts);
     launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
-                                                        s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
+                                                        s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy,
+                                                        f.uniforms, f.uploadSeen},
                                 s.numVerts);
   } else {
     launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
-                                                         s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy},
+                                                         s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy,
+                                                         f.uniforms, f.uploadSeen},
                                 s.numVerts);
   }
 }

@@ -46,7 +46,7 @@ TEST_CASE("a recorded frame replays its kernels, marks and host state", "[graphs
     const uint32_t value = uint32_t(i);  // uploaded, like the camera
     expected += value;
     timer.start();
-    const bool replayed = graphs.run("key", &timer, state, {&value, step.data(), sizeof value}, [&] {
+    const bool replayed = graphs.run("key", &timer, state, {&value, step.data(), sizeof value, value}, [&] {
       ++direct;
       addStep(counter, step);
       timer.mark("add");
@@ -68,7 +68,7 @@ TEST_CASE("a recorded frame replays its kernels, marks and host state", "[graphs
     DView<uint32_t> other = allocUninit<uint32_t>("test.other", 4);
     const int before = direct;
     const uint32_t value = 100;
-    graphs.run("key", nullptr, state, {&value, step.data(), sizeof value}, [&] {
+    graphs.run("key", nullptr, state, {&value, step.data(), sizeof value, value}, [&] {
       ++direct;
       addStep(counter, step);
     });
@@ -78,7 +78,7 @@ TEST_CASE("a recorded frame replays its kernels, marks and host state", "[graphs
   SECTION("another key records anew") {
     const int before = direct;
     for (uint32_t value : {10u, 20u, 30u})
-      graphs.run("other key", nullptr, state, {&value, step.data(), sizeof value}, [&] {
+      graphs.run("other key", nullptr, state, {&value, step.data(), sizeof value, value}, [&] {
         ++direct;
         addStep(counter, step);
       });
