@@ -13,6 +13,8 @@
 #include "depth_plane.h"
 #include "gpu_types.h"
 
+#include <type_traits>
+
 namespace rast {
 
 constexpr int kSubBits = 8;
@@ -135,15 +137,37 @@ KOKKOS_INLINE_FUNCTION bool setupTriangle(const ClipVert& a, const ClipVert& b, 
 struct Edges {
   int64_t A[3], B[3], C[3];
   int64_t bias[3];  // 1 on top-left edges, else 0: inside means E_i + bias_i > 0
-  // The same functions as products of 32-bit factors, which eval() uses:
+  // On GPUs, the same functions as products of 32-bit factors, which eval()
+  // uses there:
   //   E_i(X, Y) = dx_i (256 Y + cy_i) + ndy_i (256 X + cx_i),
   // ndy_i = -dy_i, cx_i = 128 - x_i, cy_i = 128 - y_i. Snapped coordinates lie
   // within +-2^23 (kMaxWindowCoord in fixed point) and pixel coordinates below
   // 2^14, so every factor fits in 32 bits and each product (below 2^48) is
-  // one widening multiply on a GPU: A_i X + B_i Y + C_i with 64-bit
-  // coefficients took about three times the instructions, and a GPU's
-  // item and shading set-ups evaluate edges a dozen times (same values).
-  int32_t dx[3], ndy[3], cx[3], cy[3];
+  // one widening multiply: A_i X + B_i Y + C_i with 64-bit coefficients took
+  // about three times the instructions, and a GPU's item and shading set-ups
+  // evaluate edges a dozen times (the same values). A CPU multiplies 64-bit
+  // integers in one instruction; there the factors (fields and evaluation)
+  // cost the million one-pixel triangles of `tiny` 5-10% (its raster and
+  // shading set up a triangle a pixel), so host backends keep A X + B Y + C.
+  struct Factors {
+    int32_t dx[3], ndy[3], cx[3], cy[3];
+    KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const {
+      return int64_t(dx[i]) * int64_t(kSubOne * Y + cy[i]) + int64_t(ndy[i]) * int64_t(kSubOne * X + cx[i]);
+    }
+  };
+  struct NoFactors {};
+  std::conditional_t<kOnDevice, Factors, NoFactors> gpu;
+  KOKKOS_INLINE_FUNCTION static Factors factorsOf(const RasterTri& t) {
+    Factors g;
+    for (int i = 0; i < 3; ++i) {
+      const int j = i == 2 ? 0 : i + 1;
+      g.dx[i] = t.x[j] - t.x[i];
+      g.ndy[i] = t.y[i] - t.y[j];
+      g.cx[i] = kSubHalf - t.x[i];
+      g.cy[i] = kSubHalf - t.y[i];
+    }
+    return g;
+  }
 
   KOKKOS_DEFAULTED_FUNCTION Edges() = default;
   KOKKOS_INLINE_FUNCTION explicit Edges(const RasterTri& t) {
@@ -154,10 +178,6 @@ struct Edges {
       A[i] = -dy * kSubOne;
       B[i] = dx * kSubOne;
       C[i] = dx * (kSubHalf - int64_t(t.y[i])) - dy * (kSubHalf - int64_t(t.x[i]));
-      this->dx[i] = t.x[j] - t.x[i];
-      ndy[i] = t.y[i] - t.y[j];
-      cx[i] = kSubHalf - t.x[i];
-      cy[i] = kSubHalf - t.y[i];
       // Top-left rule, "top" as the image is stored and shown (rows top first,
       // as in D3D and in Mesa's llvmpipe under OpenGL): a pixel centre exactly
       // on an edge belongs to the triangle only for a left edge (going down in
@@ -168,9 +188,26 @@ struct Edges {
       // depth past the far plane.
       bias[i] = (dy < 0 || (dy == 0 && dx > 0)) ? 1 : 0;
     }
+    setFactors(gpu, t);
   }
-  KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const {
-    return int64_t(dx[i]) * int64_t(kSubOne * Y + cy[i]) + int64_t(ndy[i]) * int64_t(kSubOne * X + cx[i]);
+  KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const { return evalWith(gpu, i, X, Y); }
+  // B_i dY, the change of E_i over dY rows (on a GPU, B_i = 256 dx_i: one
+  // widening multiply).
+  KOKKOS_INLINE_FUNCTION int64_t rows(int i, int32_t dY) const { return rowsWith(gpu, i, dY); }
+  // The two forms, chosen by the type of `gpu` (the other is not compiled).
+  KOKKOS_INLINE_FUNCTION static void setFactors(Factors& g, const RasterTri& t) { g = factorsOf(t); }
+  KOKKOS_INLINE_FUNCTION static void setFactors(NoFactors&, const RasterTri&) {}
+  KOKKOS_INLINE_FUNCTION int64_t evalWith(const Factors& g, int i, int32_t X, int32_t Y) const { return g.eval(i, X, Y); }
+  KOKKOS_INLINE_FUNCTION int64_t evalWith(const NoFactors&, int i, int32_t X, int32_t Y) const {
+    return A[i] * X + B[i] * Y + C[i];
+  }
+  KOKKOS_INLINE_FUNCTION int64_t rowsWith(const Factors& g, int i, int32_t dY) const {
+    return int64_t(g.dx[i]) * int64_t(kSubOne * dY);
+  }
+  KOKKOS_INLINE_FUNCTION int64_t rowsWith(const NoFactors&, int i, int32_t dY) const { return B[i] * dY; }
+  // The GPUs' form on any backend (tests compare the two).
+  KOKKOS_INLINE_FUNCTION static int64_t factorEval(const RasterTri& t, int i, int32_t X, int32_t Y) {
+    return factorsOf(t).eval(i, X, Y);
   }
   // Edge value at a sample offset (ox, oy) in 1/256 pixel from the pixel centre.
   KOKKOS_INLINE_FUNCTION int64_t atSample(int i, int64_t centre, int32_t ox, int32_t oy) const {

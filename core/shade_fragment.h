@@ -401,8 +401,7 @@ struct Shade {
       if (index & kLineFlag) return;
       for (int i = 0; i < 3; ++i) f.ev[i] = f.e.eval(i, X, Y);
     } else if (Y != f.evY) {
-      // B_i (Y - evY), B_i = 256 dx_i: one widening multiply.
-      for (int i = 0; i < 3; ++i) f.ev[i] += int64_t(f.e.dx[i]) * int64_t(kSubOne * (Y - f.evY));
+      for (int i = 0; i < 3; ++i) f.ev[i] += f.e.rows(i, Y - f.evY);
     }
     f.evY = Y;
   }

@@ -327,10 +327,11 @@ TEST_CASE("triangles beyond a side of the viewport are skipped before clipping, 
 }
 
 TEST_CASE("edge values from 32-bit factors equal the 64-bit edge functions at the coordinate limits", "[raster][edges]") {
-  // Edges::eval multiplies 32-bit factors (a GPU's widening multiply); the
-  // setup keeps snapped vertices within +-kMaxWindowCoord pixels and pixel
-  // coordinates lie below kMaxFramebufferSide. At those limits and at random
-  // points in between, eval must equal A X + B Y + C exactly.
+  // On GPUs Edges::eval multiplies 32-bit factors (a widening multiply,
+  // Edges::factorEval); the setup keeps snapped vertices within
+  // +-kMaxWindowCoord pixels and pixel coordinates lie below
+  // kMaxFramebufferSide. At those limits and at random points in between,
+  // both forms must equal A X + B Y + C exactly.
   const int32_t lim = kMaxWindowCoord * kSubOne - 1;
   const int32_t side = kMaxFramebufferSide - 1;
   std::mt19937 rng(7);
@@ -347,7 +348,11 @@ TEST_CASE("edge values from 32-bit factors equal the 64-bit edge functions at th
     const int32_t xs[4] = {0, side, pixel(rng), pixel(rng)}, ys[4] = {0, side, pixel(rng), pixel(rng)};
     for (int i = 0; i < 3; ++i)
       for (int32_t X : xs)
-        for (int32_t Y : ys) REQUIRE(e.eval(i, X, Y) == e.A[i] * X + e.B[i] * Y + e.C[i]);
+        for (int32_t Y : ys) {
+          const int64_t plane = e.A[i] * X + e.B[i] * Y + e.C[i];
+          REQUIRE(Edges::factorEval(t, i, X, Y) == plane);
+          REQUIRE(e.eval(i, X, Y) == plane);
+        }
   }
 }
 
