@@ -102,7 +102,7 @@ class CudaGraphs {
   uint32_t* seen() const { return seenDevice_; }
 
   void stage(const FrameGraphs::Upload& u) {
-    if (!(seenDevice_ && holding_ && held_ != 0 && *seen_ == held_)) cudaEventSynchronize(copied_);
+    if (!(seenDevice_ && held_ != 0 && *seen_ == held_)) cudaEventSynchronize(copied_);
     if (u.bytes > capacity_) {
       if (staging_) cudaFreeHost(staging_);
       staging_ = nullptr;
@@ -114,7 +114,6 @@ class CudaGraphs {
     }
     std::memcpy(staging_, u.src, u.bytes);
     held_ = u.sequence;
-    holding_ = true;
   }
   void copy(const FrameGraphs::Upload& u) {
     const cudaStream_t s = rast::Exec().cuda_stream();
@@ -140,8 +139,7 @@ class CudaGraphs {
   cudaEvent_t copied_ = nullptr;
   volatile uint32_t* seen_ = nullptr;  // host view of the sequence the device last read
   uint32_t* seenDevice_ = nullptr;     // device view of the same word
-  uint32_t held_ = 0;                  // sequence of the upload in the staging buffer
-  bool holding_ = false;
+  uint32_t held_ = 0;                  // sequence of the upload in the staging buffer (0: none yet)
 };
 
 bool graphsEnabled() {
