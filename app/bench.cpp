@@ -97,6 +97,8 @@ std::string jsonRow(const BenchRow& b) {
   char buf[512];
   std::string s = "{\"scene\": \"" + b.scene + "\", \"requested\": \"" + b.requested + "\", \"method\": \"" + b.method +
                   "\", \"backend\": \"" + b.backend + "\"";
+  // The visbuffer raster's layout: a block's rows on lanes (raster_visbuffer.cpp).
+  if (b.stats.method == RasterMethod::VisBuffer) s += std::string(", \"row_lanes\": ") + (b.stats.rowLanes ? "true" : "false");
   std::snprintf(buf, sizeof buf,
                 ", \"width\": %d, \"height\": %d, \"frames\": %d, \"total_median_ms\": %.6f, \"total_min_ms\": %.6f, \"enqueue_host_median_ms\": %.6f, \"staged_total_median_ms\": %.6f"
                 ", \"triangles_in\": %u, \"triangles_raster\": %u, \"raster_work_items\": %u"

@@ -108,6 +108,22 @@ constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
 // common to the runs; blocks of 64, 128 and 256 gained nothing measurable
 // (docs/performance.md). AMD's {64, 10} is one wavefront a block, unmeasured.
 constexpr unsigned kRasterLaunchBounds[2] = {unsigned(kSimdWidth), 640u / unsigned(kSimdWidth)};
+
+// The visbuffer raster with a block's row on consecutive lanes
+// (RasterBlockRows, raster_visbuffer.cpp): its coalesced key reads and atomics
+// pay where items are few and mostly covered, its item set-up on eight lanes
+// costs where they are many, small or skipped. Under `auto` on GPUs it runs
+// when the raster triangles' mean bounding box is at least this many pixels
+// and the occluder pass does not (in frames of layered triangles most items
+// are skipped). Same-run A/Bs on the H100, 1920x1080 (frame ms, mean box in
+// pixels, docs/performance.md): milktruck_cab 0.1501 -> 0.1425 (34,000),
+// bigtri 0.1152 -> 0.0968 (2.07 M), box 0.0608 -> 0.0508 (186,000),
+// checkerboard 0.0451 -> 0.0409 (158,000); but milktruck 0.0730 -> 0.0777
+// (1,228), duck +5 us (365), cow +5 us (204), engine +52 us (73), and with
+// the occluder pass overdraw +41 us (81,600) and engine_inside +144 us (4,431).
+constexpr uint64_t kRowLanesMinBoxArea = 4096;
+// Team members (of eight lanes each) a team: a block of 128 threads.
+constexpr uint32_t kRowTeam = kOnDevice ? 16 : 1;
 // Scenes of more draws than this (and at most 65,536) get a table from each
 // drawn triangle and drawn vertex to its draw (DeviceScene::triDraw,
 // vertDraw): one load instead of a binary search over the draws' starts, a

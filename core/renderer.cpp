@@ -133,6 +133,17 @@ bool Renderer::useOccluders(const RenderSettings& rs) const {
          double(autoStats_.occArea) >= kOccluderMinLayers * double(rs.width) * double(rs.height);
 }
 
+// The visbuffer raster's layout with a block's row on lanes (raster_visbuffer.cpp):
+// on GPUs under `auto`, for frames whose raster triangles' mean bounding box
+// reaches kRowLanesMinBoxArea without the occluder pass (backends/tuning.h).
+// Tests may ask for it on any backend (setRowLanesForTests).
+bool Renderer::useRowLanes(const RenderSettings& rs) const {
+  if (lastMethod_ != RasterMethod::VisBuffer || rs.polygon != PolygonMode::Fill || rs.msaa != 1) return false;
+  if (rowLanesForTests() != 0) return rowLanesForTests() > 0;
+  if (!kOnDevice || rs.raster != RasterMethod::Auto || lastOccluders_ || !autoStats_.valid || autoStats_.tris == 0) return false;
+  return autoStats_.sumArea >= kRowLanesMinBoxArea * uint64_t(autoStats_.tris);
+}
+
 void Renderer::checkFrameBudget(const RenderSettings& rs) const {
   const uint64_t n = uint64_t(rs.width) * uint64_t(rs.height);
   const int msaa = rs.ssaa > 1 || rs.reference ? 1 : rs.msaa;
@@ -225,13 +236,14 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   lastMethod_ = resolveMethod(rs);
   lastAuto_ = rs.raster == RasterMethod::Auto;
   lastOccluders_ = useOccluders(rs);
+  lastRowLanes_ = useRowLanes(rs);
   statsThisFrame_ = lastAuto_ && (!autoStats_.valid || autoFrames_ % kAutoStatsEvery == 0);
   if (lastAuto_) ++autoFrames_;
   // Everything the frame's launches depend on besides device memory: a
   // recorded frame is replayed only under the same key (frame_graphs.h).
   uint64_t visClear = frame_.visClear ? 1 : 0;
   std::string key = settingsKey(rs);
-  for (uint64_t v : {uint64_t(lastMethod_), uint64_t(statsThisFrame_), uint64_t(lastOccluders_), visClear, uint64_t(supersampling_),
+  for (uint64_t v : {uint64_t(lastMethod_), uint64_t(statsThisFrame_), uint64_t(lastOccluders_), uint64_t(lastRowLanes_), visClear, uint64_t(supersampling_),
                      uint64_t(frame_.triCapacity), uint64_t(frame_.workCapacity)})
     key.append(reinterpret_cast<const char*>(&v), sizeof v);
 
@@ -307,7 +319,7 @@ void Renderer::launchFrame(const RenderSettings& rs, bool needWorld, bool film, 
       break;
     default:
       clearVisibility(frame_);
-      rasterVisBuffer(frame_, lastOccluders_);
+      rasterVisBuffer(frame_, lastOccluders_, lastRowLanes_);
       break;
   }
   // Points and lines after the triangles: binned writes every pixel. Keys
@@ -350,6 +362,7 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     stats->rasterTris = need;
     stats->rasterWork = h(kRasterWork);
     stats->method = lastMethod_;
+    stats->rowLanes = lastRowLanes_;
     stats->deviceBytes = deviceBytes();
     stats->minimumBytes = scene_.bytes() + viewBytes(frame_.vis) + viewBytes(frame_.color);
     stats->filmBytes = frame_.post.bytes() + viewBytes(frame_.accum);

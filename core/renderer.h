@@ -24,6 +24,7 @@ struct FrameStats {
   uint32_t rasterTris = 0;    // after clipping, culling and snapping
   uint32_t rasterWork = 0;    // work items of the raster method
   RasterMethod method = RasterMethod::VisBuffer;
+  bool rowLanes = false;      // the visbuffer raster ran a block's rows on lanes (RasterBlockRows)
   int attempts = 1;           // > 1 when buffers had to grow and the frame was redone
   size_t deviceBytes = 0;     // scene + frame buffers
   size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)
@@ -116,6 +117,8 @@ class Renderer {
   } autoStats_;
   bool lastOccluders_ = false;  // the last frame ran the visbuffer's occluder pass
   bool useOccluders(const RenderSettings& rs) const;
+  bool lastRowLanes_ = false;   // the last frame's visbuffer raster ran a block's rows on lanes
+  bool useRowLanes(const RenderSettings& rs) const;
 };
 
 }  // namespace rast

@@ -53,6 +53,10 @@ void setGpuSetupOnHostForTests(int teamSize);
 // compiled for lit shading alone (shade_fragment.h, Shade::litOnly), so that
 // the two can be compared; false restores the choice. Images must not change.
 void setGeneralShadeForTests(bool general);
+// The visbuffer raster's layout for tests: 1 a block's rows on lanes
+// (RasterBlockRows) on any backend, -1 never, 0 as the renderer decides.
+void setRowLanesForTests(int mode);
+int rowLanesForTests();
 
 void clearVisibility(FrameBuffers& f);
 
@@ -61,8 +65,10 @@ void clearVisibility(FrameBuffers& f);
 void rasterNaive(FrameBuffers& f);
 // occluders: large triangles first lower the depth bounds of the blocks they
 // cover whole (raster_visbuffer.cpp), for frames of high depth complexity;
-// the setup must have been told too (primitiveSetup).
-void rasterVisBuffer(FrameBuffers& f, bool occluders);
+// the setup must have been told too (primitiveSetup). rowLanes: a block's
+// rows on consecutive lanes (RasterBlockRows), for frames of large triangles
+// (Renderer::useRowLanes); the same keys either way.
+void rasterVisBuffer(FrameBuffers& f, bool occluders, bool rowLanes = false);
 void rasterBinned(FrameBuffers& f);  // writes every pixel: needs no clearVisibility
 
 // Cheap statistics of the raster triangles (sum and maximum of their pixel
