@@ -105,71 +105,100 @@ struct RasterBlocks {
   DView<uint64_t> occCount;  // zeroed here for the next frame's setup (read by OccluderBounds before)
   int32_t occluders;         // the occluder pass ran: test items with their block's nearest depth too
 
+  // A work item: its rectangle (a block of its triangle's box, or a small box
+  // whole) and the blocks it meets, once its tests let it draw.
+  struct Item {
+    int32_t x0, x1, y0, y1;
+    uint32_t b, bRight, bUp;  // the first block it meets, and the steps to the others (0: none)
+    uint32_t bound;           // the farthest of those blocks' depth bounds
+    KOKKOS_INLINE_FUNCTION bool wholeBlock() const {
+      return x1 - x0 == (1 << kVisBlockShift) - 1 && y1 - y0 == (1 << kVisBlockShift) - 1 && !bRight && !bUp;
+    }
+  };
+
+  // Item w's raster triangle (into i: a thread's items come in order, its
+  // last triangle bounds the search) and rectangle. False for an item of a
+  // triangle past the capacity, counted but not stored (the frame is drawn
+  // again with a larger buffer): none to draw.
+  KOKKOS_INLINE_FUNCTION bool find(uint32_t w, uint32_t total, uint32_t n, uint32_t thisFrame, uint32_t hints, uint32_t& i,
+                                   Item& it) const {
+    uint32_t hi;
+    workHintBounds(workHint.data(), hints, thisFrame, total, n, w, i, hi);
+    i = findRange(workOffset, hi, w, i);
+    const RasterTri& t = tris(i);
+    uint32_t bw;
+    const uint32_t local = w - workOffset(i);
+    if (local >= visBlocksOf(t, bw)) return false;
+    it.x0 = t.minX, it.x1 = t.maxX, it.y0 = t.minY, it.y1 = t.maxY;
+    if (!smallBox(t)) {
+      const int32_t bx = (t.minX >> kVisBlockShift) + int32_t(local % bw);
+      const int32_t by = (t.minY >> kVisBlockShift) + int32_t(local / bw);
+      it.x0 = imax(t.minX, bx << kVisBlockShift), it.x1 = imin(t.maxX, ((bx + 1) << kVisBlockShift) - 1);
+      it.y0 = imax(t.minY, by << kVisBlockShift), it.y1 = imin(t.maxY, ((by + 1) << kVisBlockShift) - 1);
+    }
+    return true;
+  }
+
+  // One sample per pixel: whether the item can change a key, from its edges
+  // and its blocks' depth bounds (the blocks and bound into it).
+  KOKKOS_INLINE_FUNCTION bool mayDraw(const RasterTri& t, const Edges& e, Item& it) const {
+    if (rectOutside(e, it.x0, it.x1, it.y0, it.y1)) return false;  // the block is in the box, not in the triangle
+    // The blocks the rectangle meets: one, or up to two by two for a small box.
+    const uint32_t bx0 = uint32_t(it.x0 >> kVisBlockShift), bx1 = uint32_t(it.x1 >> kVisBlockShift);
+    const uint32_t by0 = uint32_t(it.y0 >> kVisBlockShift), by1 = uint32_t(it.y1 >> kVisBlockShift);
+    it.b = by0 * uint32_t(blocksPerRow) + bx0;
+    it.bRight = bx1 > bx0 ? 1u : 0u, it.bUp = by1 > by0 ? uint32_t(blocksPerRow) : 0u;
+    const DepthBounds z = depthBounds(t);
+    // Skipped only behind every block it meets: the farthest of their bounds.
+    uint32_t bound = blockDepth(it.b);
+    if (it.bRight) bound = imaxu(bound, blockDepth(it.b + it.bRight));
+    if (it.bUp) bound = imaxu(imaxu(bound, blockDepth(it.b + it.bUp)), blockDepth(it.b + it.bUp + it.bRight));
+    it.bound = bound;
+    if (floatBits(z.lo) > bound) return false;  // behind every pixel of those blocks
+    // After the occluder pass, the nearest of the triangle's pixels here: a
+    // large sloped triangle's nearest corner may lie far from the block (on
+    // the H100: overdraw 0.152 -> 0.144 ms, engine_inside 0.216 -> 0.210;
+    // without the pass, engine's raster lost 0.6 us to it).
+    if (occluders && bound < kFarDepthBits) {
+      const float lo = rectNearest(e, DepthTerms(t), it.x0, it.x1, it.y0, it.y1);
+      if (lo > 0.0f && floatBits(lo) > bound) return false;
+    }
+    return true;
+  }
+
+  // Every writer stores the same tag, unconditionally: reading it first
+  // left each item waiting for that load at its end (5% of milktruck_cab's
+  // raster stall samples). A block tagged without a key costs shading a read.
+  KOKKOS_INLINE_FUNCTION void tag(const Item& it, uint32_t thisFrame) const {
+    blockFrame(it.b) = thisFrame;
+    if (it.bRight) blockFrame(it.b + it.bRight) = thisFrame;
+    if (it.bUp) blockFrame(it.b + it.bUp) = thisFrame;
+    if (it.bUp && it.bRight) blockFrame(it.b + it.bUp + it.bRight) = thisFrame;
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t thread) const {
     if (thread == 0 && occCount.data()) occCount(0) = 0;
     const uint32_t total = counters(kRasterWork);
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     const uint32_t thisFrame = frame(0).frame;
     const uint32_t hints = uint32_t(workHint.extent(0));
-    uint32_t i = 0;  // a thread's items come in order: its last triangle bounds the search
+    uint32_t i = 0;
     for (uint32_t w = thread; w < total; w += stride) {
-      uint32_t hi;
-      workHintBounds(workHint.data(), hints, thisFrame, total, n, w, i, hi);
-      i = findRange(workOffset, hi, w, i);
+      Item it;
+      if (!find(w, total, n, thisFrame, hints, i, it)) continue;
       const RasterTri& t = tris(i);
-      uint32_t bw;
-      const uint32_t local = w - workOffset(i);
-      // Items of triangles past the capacity were counted but not stored
-      // (the frame is drawn again with a larger buffer): none to draw.
-      if (local >= visBlocksOf(t, bw)) continue;
-      // The item's rectangle: a block of the box, or a small box whole.
-      int32_t x0 = t.minX, x1 = t.maxX, y0 = t.minY, y1 = t.maxY;
-      if (!smallBox(t)) {
-        const int32_t bx = (t.minX >> kVisBlockShift) + int32_t(local % bw);
-        const int32_t by = (t.minY >> kVisBlockShift) + int32_t(local / bw);
-        x0 = imax(t.minX, bx << kVisBlockShift), x1 = imin(t.maxX, ((bx + 1) << kVisBlockShift) - 1);
-        y0 = imax(t.minY, by << kVisBlockShift), y1 = imin(t.maxY, ((by + 1) << kVisBlockShift) - 1);
-      }
       if (samples.count > 1) {
-        rasterRect(t, Edges(t), i, x0, x1, y0, y1, vis.data(), width, samples);
+        rasterRect(t, Edges(t), i, it.x0, it.x1, it.y0, it.y1, vis.data(), width, samples);
         continue;
       }
       const Edges e(t);
-      if (rectOutside(e, x0, x1, y0, y1)) continue;  // the block is in the box, not in the triangle
-      // The blocks the rectangle meets: one, or up to two by two for a small box.
-      const uint32_t bx0 = uint32_t(x0 >> kVisBlockShift), bx1 = uint32_t(x1 >> kVisBlockShift);
-      const uint32_t by0 = uint32_t(y0 >> kVisBlockShift), by1 = uint32_t(y1 >> kVisBlockShift);
-      const uint32_t b = by0 * uint32_t(blocksPerRow) + bx0;
-      const uint32_t bRight = bx1 > bx0 ? 1u : 0u, bUp = by1 > by0 ? uint32_t(blocksPerRow) : 0u;
-      const DepthBounds z = depthBounds(t);
-      // Skipped only behind every block it meets: the farthest of their bounds.
-      uint32_t bound = blockDepth(b);
-      if (bRight) bound = imaxu(bound, blockDepth(b + bRight));
-      if (bUp) bound = imaxu(imaxu(bound, blockDepth(b + bUp)), blockDepth(b + bUp + bRight));
-      if (floatBits(z.lo) > bound) continue;  // behind every pixel of those blocks
-      // After the occluder pass, the nearest of the triangle's pixels here: a
-      // large sloped triangle's nearest corner may lie far from the block (on
-      // the H100: overdraw 0.152 -> 0.144 ms, engine_inside 0.216 -> 0.210;
-      // without the pass, engine's raster lost 0.6 us to it).
-      if (occluders && bound < kFarDepthBits) {
-        const float lo = rectNearest(e, DepthTerms(t), x0, x1, y0, y1);
-        if (lo > 0.0f && floatBits(lo) > bound) continue;
-      }
-      const RectResult r = rasterNarrowRect(t, e, i, x0, x1, y0, y1, vis.data(), width);
-      // Every writer stores the same tag, unconditionally: reading it first
-      // left each item waiting for that load at its end (5% of milktruck_cab's
-      // raster stall samples). A block tagged without a key costs shading a read.
-      if (r.covered) {
-        blockFrame(b) = thisFrame;
-        if (bRight) blockFrame(b + bRight) = thisFrame;
-        if (bUp) blockFrame(b + bUp) = thisFrame;
-        if (bUp && bRight) blockFrame(b + bUp + bRight) = thisFrame;
-      }
+      if (!mayDraw(t, e, it)) continue;
+      const RectResult r = rasterNarrowRect(t, e, i, it.x0, it.x1, it.y0, it.y1, vis.data(), width);
+      if (r.covered) tag(it, thisFrame);
       // Whole blocks only: the bound must hold for all 64 pixels of block b.
       // `bound` is b's as read before the item (a whole block meets no other
       // block): when it has fallen since, the atomic changes nothing.
-      const bool whole = x1 - x0 == (1 << kVisBlockShift) - 1 && y1 - y0 == (1 << kVisBlockShift) - 1 && !bRight && !bUp;
-      if (whole && r.maxDepthBits < bound) Kokkos::atomic_fetch_min(&blockDepth(b), r.maxDepthBits);
+      if (it.wholeBlock() && r.maxDepthBits < it.bound) Kokkos::atomic_fetch_min(&blockDepth(it.b), r.maxDepthBits);
     }
   }
 };
@@ -196,38 +225,15 @@ struct RasterBlockRows {
     uint32_t i = 0;
     for (uint32_t w = me; w < total; w += members) {
       // RasterBlocks' search and tests, on every lane.
-      uint32_t hi;
-      workHintBounds(r.workHint.data(), hints, thisFrame, total, n, w, i, hi);
-      i = findRange(r.workOffset, hi, w, i);
+      RasterBlocks::Item it;
+      if (!r.find(w, total, n, thisFrame, hints, i, it)) continue;
       const RasterTri& t = r.tris(i);
-      uint32_t bw;
-      const uint32_t local = w - r.workOffset(i);
-      if (local >= visBlocksOf(t, bw)) continue;
-      int32_t x0 = t.minX, x1 = t.maxX, y0 = t.minY, y1 = t.maxY;
-      if (!smallBox(t)) {
-        const int32_t bx = (t.minX >> kVisBlockShift) + int32_t(local % bw);
-        const int32_t by = (t.minY >> kVisBlockShift) + int32_t(local / bw);
-        x0 = imax(t.minX, bx << kVisBlockShift), x1 = imin(t.maxX, ((bx + 1) << kVisBlockShift) - 1);
-        y0 = imax(t.minY, by << kVisBlockShift), y1 = imin(t.maxY, ((by + 1) << kVisBlockShift) - 1);
-      }
       const Edges e(t);
-      if (rectOutside(e, x0, x1, y0, y1)) continue;
-      const uint32_t bx0 = uint32_t(x0 >> kVisBlockShift), bx1 = uint32_t(x1 >> kVisBlockShift);
-      const uint32_t by0 = uint32_t(y0 >> kVisBlockShift), by1 = uint32_t(y1 >> kVisBlockShift);
-      const uint32_t b = by0 * uint32_t(r.blocksPerRow) + bx0;
-      const uint32_t bRight = bx1 > bx0 ? 1u : 0u, bUp = by1 > by0 ? uint32_t(r.blocksPerRow) : 0u;
-      const DepthBounds z = depthBounds(t);
-      uint32_t bound = r.blockDepth(b);
-      if (bRight) bound = imaxu(bound, r.blockDepth(b + bRight));
-      if (bUp) bound = imaxu(imaxu(bound, r.blockDepth(b + bUp)), r.blockDepth(b + bUp + bRight));
-      if (floatBits(z.lo) > bound) continue;
-      if (r.occluders && bound < kFarDepthBits) {
-        const float lo = rectNearest(e, DepthTerms(t), x0, x1, y0, y1);
-        if (lo > 0.0f && floatBits(lo) > bound) continue;
-      }
+      if (!r.mayDraw(t, e, it)) continue;
+      const int32_t x0 = it.x0, y0 = it.y0, y1 = it.y1;
       const DepthTerms dz(t);
       const int64_t nb0 = -e.bias[0], nb1 = -e.bias[1], nb2 = -e.bias[2];
-      const int32_t last = x1 - x0;
+      const int32_t last = it.x1 - x0;
       const int64_t c0 = e.eval(0, x0, y0), c1 = e.eval(1, x0, y0), c2 = e.eval(2, x0, y0);
       uint64_t* const base = r.vis.data() + int64_t(y0) * r.width + x0;
       // The farthest key left in the rectangle (RectResult::maxDepthBits).
@@ -256,19 +262,13 @@ struct RasterBlockRows {
               px += r.width;
               cur = ahead;
             }
-            // RasterBlocks' tags, stored by every lane that met the triangle
-            // (the same values: a warp's stores to one word merge).
-            if (covered) {
-              r.blockFrame(b) = thisFrame;
-              if (bRight) r.blockFrame(b + bRight) = thisFrame;
-              if (bUp) r.blockFrame(b + bUp) = thisFrame;
-              if (bUp && bRight) r.blockFrame(b + bUp + bRight) = thisFrame;
-            }
+            // The tags, stored by every lane that met the triangle (the same
+            // values: a warp's stores to one word merge).
+            if (covered) r.tag(it, thisFrame);
           },
           Kokkos::Max<uint32_t>(maxBits));
-      const bool whole = x1 - x0 == (1 << kVisBlockShift) - 1 && y1 - y0 == (1 << kVisBlockShift) - 1 && !bRight && !bUp;
-      if (whole && maxBits < bound)
-        Kokkos::single(Kokkos::PerThread(m), [&]() { Kokkos::atomic_fetch_min(&r.blockDepth(b), maxBits); });
+      if (it.wholeBlock() && maxBits < it.bound)
+        Kokkos::single(Kokkos::PerThread(m), [&]() { Kokkos::atomic_fetch_min(&r.blockDepth(it.b), maxBits); });
     }
   }
 };
