@@ -432,15 +432,7 @@ TEST_CASE("the visbuffer raster with a block's rows on lanes gives the same keys
   }
   const std::string sh = sharedDir();
   if (!sh.empty() && fileExists(sh + "/models/milktruck.glb")) {  // the benchmark's view from the cab
-    Scene truck = loadGltf(sh + "/models/milktruck.glb");
-    Camera cam = defaultCamera(truck);
-    cam.eye = {0.5, 1.3, 0.2};
-    cam.target = {3, 1.0, 0.5};
-    cam.up = {0, 1, 0};
-    cam.fovyDeg = 45;
-    cam.znear = 0.5;
-    cam.zfar = 807.25;
-    cases.push_back({"milktruck, from the cab", std::move(truck), cam});
+    cases.push_back({"milktruck, from the cab", loadGltf(sh + "/models/milktruck.glb"), milktruckCabCamera()});
   }
   for (const Case& c : cases) {
     for (RasterMethod m : {RasterMethod::VisBuffer, RasterMethod::Auto}) {

@@ -79,13 +79,6 @@ TEST_CASE("the lit shade kernel gives the general kernel's images", "[shade]") {
     return;
   }
   const Scene truck = loadGltf(dir + "/models/milktruck.glb");
-  Camera cab;
-  cab.eye = {0.5, 1.3, 0.2};
-  cab.target = {3.0, 1.0, 0.5};
-  cab.up = {0.0, 1.0, 0.0};
-  cab.fovyDeg = 45.0;
-  cab.znear = 0.5;
-  cab.zfar = 807.25;
-  compareForms("milktruck from its cab", truck, cab, rs);
+  compareForms("milktruck from its cab", truck, milktruckCabCamera(), rs);
   compareForms("milktruck", truck, defaultCamera(truck), rs);
 }

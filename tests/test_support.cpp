@@ -35,6 +35,17 @@ Scene trianglesScene(const std::vector<float3>& positions, const std::vector<uin
   return s;
 }
 
+Camera milktruckCabCamera() {
+  Camera cab;
+  cab.eye = {0.5, 1.3, 0.2};
+  cab.target = {3.0, 1.0, 0.5};
+  cab.up = {0.0, 1.0, 0.0};
+  cab.fovyDeg = 45.0;
+  cab.znear = 0.5;
+  cab.zfar = 807.25;
+  return cab;
+}
+
 Camera identityCamera() {
   Camera c;
   c.viewProjOverride = glm::dmat4(1.0);

@@ -39,6 +39,10 @@ Scene trianglesScene(const std::vector<float3>& positions, const std::vector<uin
 // Identity view-projection: positions are NDC (clip space with w = 1), so a
 // test can place vertices at exact window positions with windowToNdc().
 Camera identityCamera();
+
+// The benchmark's view of ../shared/models/milktruck.glb from inside its cab
+// (scripts/device/scenes.txt, milktruck_cab).
+Camera milktruckCabCamera();
 float3 windowToNdc(double x, double y, double z, int width, int height);
 
 std::string sharedDir();                       // "" when ../shared is absent
