@@ -506,33 +506,22 @@ struct RectResult {
 // e0, e1, e2 at the first. Inside means E_i + bias_i > 0, that is
 // E_i > nb_i = -bias_i: compared against that, no bias is added to the 64-bit
 // values at every pixel.
-// One pixel of a single-sample rectangle (rasterRow; RasterBlockRows,
-// raster_visbuffer.cpp), edge values e0, e1, e2 at its centre, cur its key as
-// read before: its key goes in by the atomic minimum when the centre is inside
-// and the key nearer. Returns the key the pixel holds after, as far as the
-// item knows (the block's bound), and counts an inside pixel in `covered`.
-KOKKOS_FORCEINLINE_FUNCTION uint64_t rasterPixel(const DepthTerms& dz, const int64_t (&nb)[3], uint32_t index, int64_t e0,
-                                                 int64_t e1, int64_t e2, uint64_t cur, uint64_t* px, uint32_t& covered) {
-  uint64_t after = cur;
-  if (e0 > nb[0] && e1 > nb[1] && e2 > nb[2]) {  // e.inside(e0, e1, e2)
-    const uint64_t key = visKey(dz.at(e0, e2), index);
-    // The plain read only skips atomics that could not win; the atomic
-    // minimum alone decides, so the result is independent of ordering.
-    if (key < cur) {
-      Kokkos::atomic_fetch_min(px, key);
-      after = key;
-    }
-    ++covered;
-  }
-  return after;
-}
-
 KOKKOS_FORCEINLINE_FUNCTION void rasterRow(const Edges& e, const DepthTerms& dz, const int64_t (&nb)[3], uint32_t index,
                                            int64_t e0, int64_t e1, int64_t e2, int32_t last,
                                            const uint64_t (&cur)[kRasterRowGroup], uint64_t* row, RectResult& res) {
   for (int k = 0; k < kRasterRowGroup; ++k) {
     if (k > last) break;
-    const uint64_t after = rasterPixel(dz, nb, index, e0, e1, e2, cur[k], &row[k], res.covered);
+    uint64_t after = cur[k];
+    if (e0 > nb[0] && e1 > nb[1] && e2 > nb[2]) {  // e.inside(e0, e1, e2)
+      const uint64_t key = visKey(dz.at(e0, e2), index);
+      // The plain read only skips atomics that could not win; the atomic
+      // minimum alone decides, so the result is independent of ordering.
+      if (key < cur[k]) {
+        Kokkos::atomic_fetch_min(&row[k], key);
+        after = key;
+      }
+      ++res.covered;
+    }
     const uint32_t bits = uint32_t(after >> 32);
     res.maxDepthBits = bits > res.maxDepthBits ? bits : res.maxDepthBits;
     e0 += e.A[0];

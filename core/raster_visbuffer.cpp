@@ -232,7 +232,7 @@ struct RasterBlockRows {
       if (!r.mayDraw(t, e, it)) continue;
       const int32_t x0 = it.x0, y0 = it.y0, y1 = it.y1;
       const DepthTerms dz(t);
-      const int64_t nb[3] = {-e.bias[0], -e.bias[1], -e.bias[2]};
+      const int64_t nb0 = -e.bias[0], nb1 = -e.bias[1], nb2 = -e.bias[2];
       const int32_t last = it.x1 - x0;
       const int64_t c0 = e.eval(0, x0, y0), c1 = e.eval(1, x0, y0), c2 = e.eval(2, x0, y0);
       uint64_t* const base = r.vis.data() + int64_t(y0) * r.width + x0;
@@ -245,10 +245,18 @@ struct RasterBlockRows {
             int64_t e0 = c0 + e.A[0] * k, e1 = c1 + e.A[1] * k, e2 = c2 + e.A[2] * k;
             uint64_t* px = base + k;
             uint64_t cur = *px;
-            uint32_t covered = 0;
+            bool covered = false;
             for (int32_t y = y0; y <= y1; ++y, e0 += e.B[0], e1 += e.B[1], e2 += e.B[2]) {
               const uint64_t ahead = y < y1 ? px[r.width] : 0u;  // the next row's key, read early
-              const uint64_t after = rasterPixel(dz, nb, i, e0, e1, e2, cur, px, covered);
+              uint64_t after = cur;
+              if (e0 > nb0 && e1 > nb1 && e2 > nb2) {  // e.inside(e0, e1, e2)
+                const uint64_t key = visKey(dz.at(e0, e2), i);
+                if (key < cur) {  // the atomic minimum alone decides
+                  Kokkos::atomic_fetch_min(px, key);
+                  after = key;
+                }
+                covered = true;
+              }
               const uint32_t bits = uint32_t(after >> 32);
               farthest = bits > farthest ? bits : farthest;
               px += r.width;
