@@ -72,6 +72,12 @@ constexpr double kOccluderMinLayers = 3.0;
 // one pass was not measured there with four at a time.
 constexpr uint32_t kSetupLookBackMaxChunks = 512;
 
+// Host setup: a scene whose raster triangles may take more than this many
+// bytes has them copied out with streaming stores (backends/stream_store.h),
+// past the caches: the raster reads them back from memory anyway. Smaller
+// ones stay in the caches for it (primitive_setup.cpp).
+constexpr size_t kHostSetupStreamMinBytes = size_t(16) << 20;
+
 // Scenes of at most this many draws have their model-view-projection
 // matrices computed on the host and uploaded with the camera, in the same
 // copy: a frame then has one launch fewer (the draw_matrices kernel), about

@@ -47,6 +47,12 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool n
 // GPU's setup runs, and can hang or fail, on the CPU too; 0 restores the
 // host's own. Images must not change (tests/test_cpu_paths.cpp). GPUs ignore it.
 void setGpuSetupOnHostForTests(int teamSize);
+// Tests: the host's setup (primitive_setup.cpp's SetupChunksHost) stages at
+// most `staged` raster triangles a chunk before it writes the rest directly
+// (0: as many as it has room for), and copies them with streaming stores
+// (stream > 0), plain ones (< 0) or as the scene's size decides (0). Images
+// must not change. GPUs ignore it.
+void setHostSetupForTests(int staged, int stream);
 
 // Tests: true makes the per-pixel shade kernel take its general form for
 // every frame, including the lit frames that normally take the kernel

@@ -330,9 +330,15 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
   // look-back: each team waits for the totals of the chunks before it), of
   // many (a count pass first), and scenes with clipped triangles; teams of one thread
   // (several teams wait on each other at once) and of several (the team's
-  // scans and copies split between threads).
+  // scans and copies split between threads). Also the host's own setup with
+  // a buffer of 3 staged triangles (nearly every chunk fills it, waits for
+  // its place and writes the rest directly), with 1, and with and without
+  // streaming stores.
   struct Restore {
-    ~Restore() { setGpuSetupOnHostForTests(0); }
+    ~Restore() {
+      setGpuSetupOnHostForTests(0);
+      setHostSetupForTests(0, 0);
+    }
   } restore;
   struct Case {
     std::string name;
@@ -386,17 +392,25 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
       // setup failed to write would still hold the reference's copy.
       const int teams[2] = {1, most};
       std::vector<Frame> gpu;
+      std::vector<std::string> what;
       for (int team : teams) {
         setGpuSetupOnHostForTests(team);
         gpu.push_back(renderFrame(c.scene, c.cam, rs));
+        what.push_back("the GPU's setup, teams of " + std::to_string(team));
       }
       setGpuSetupOnHostForTests(0);
+      for (const std::pair<int, int>& host : {std::pair<int, int>{3, 1}, {1, -1}, {0, 1}}) {
+        setHostSetupForTests(host.first, host.second);
+        gpu.push_back(renderFrame(c.scene, c.cam, rs));
+        what.push_back("the host's setup staging " + std::to_string(host.first) + (host.second > 0 ? ", streamed" : ""));
+      }
+      setHostSetupForTests(0, -1);
       const Frame ref = renderFrame(c.scene, c.cam, rs);
       size_t covered = 0;
       for (uint32_t id : ref.ids) covered += id != 0;
       CHECK(covered > 0);
       for (size_t k = 0; k < gpu.size(); ++k) {
-        INFO(c.name << ", " << toString(m) << ", teams of " << teams[k]);
+        INFO(c.name << ", " << toString(m) << ", " << what[k]);
         const Frame& f = gpu[k];
         CHECK(f.stats.rasterTris == ref.stats.rasterTris);
         CHECK(f.stats.rasterWork == ref.stats.rasterWork);
