@@ -334,6 +334,78 @@ KOKKOS_FORCEINLINE_FUNCTION uint64_t runStarts(const uint32_t* __restrict__ idx,
 }
 static_assert(kMaxSpanRun <= kRunMaskBits, "shadeTile finds a row's runs with one runStarts");
 
+// Pixels of short runs of different triangles, shaded together as the lanes
+// of one vector (ShadeSpans::shadeRow). On scenes of tiny triangles nearly
+// every pixel is a triangle of its own, and a span of one pixel ran the
+// span's loops over a single lane: a chain of dependent divisions and square
+// roots a pixel. Here each lane carries its own triangle's constants (those
+// of SpanConsts, and the base colour), so that the loops below are those of
+// spanLightingFrom with a lane's constants for the span's: the same
+// operations, so the same bits.
+constexpr int32_t kLaneRunMax = 4;  // runs shorter than this (untextured) go to a batch
+struct LaneBatch {
+  int32_t m = 0;                   // lanes in use
+  int32_t X[kMaxSpanRun];          // each lane's pixel column (the row is the batch's)
+  float e0[kMaxSpanRun], e1[kMaxSpanRun], e2[kMaxSpanRun];  // exact edge values, as float(double(E))
+  float ia[kMaxSpanRun], iw0[kMaxSpanRun], iw1[kMaxSpanRun], iw2[kMaxSpanRun];
+  float t00[kMaxSpanRun], t10[kMaxSpanRun], t20[kMaxSpanRun], t01[kMaxSpanRun], t11[kMaxSpanRun], t21[kMaxSpanRun];
+  float n[9][kMaxSpanRun], q[9][kMaxSpanRun];  // normals and positions of corners 0..2, x y z each
+  float base[4][kMaxSpanRun];                  // base colour
+  float col[12][kMaxSpanRun];                  // vertex colours of corners 0..2, rgba each (scenes with them)
+};
+
+// spanLightingFrom's loop with each lane's triangle constants: the weights
+// (b0..b2) out, and the normal and headlight of every lane.
+KOKKOS_FORCEINLINE_FUNCTION void laneLighting(const LaneBatch& L, int32_t m, float3 eye, float ambient, float headI,
+                                              float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
+                                              float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
+                                              float* __restrict__ diffuse) {
+  const float third = 1.0f / 3.0f;
+  for (int32_t j = 0; j < m; ++j) {
+    const float ia = L.ia[j];
+    // Shade::bary's screen-space weights: l0 from edge 1, l1 from edge 2, l2 from edge 0
+    float w0 = (L.e1[j] * ia) * L.iw0[j], w1 = (L.e2[j] * ia) * L.iw1[j], w2 = (L.e0[j] * ia) * L.iw2[j];
+    const float sum = w0 + w1 + w2;
+    const bool ok = (sum != 0.0f) & (sum - sum == 0.0f);
+    const float inv = 1.0f / sum;
+    w0 = ok ? w0 * inv : third;
+    w1 = ok ? w1 * inv : third;
+    w2 = ok ? w2 * inv : third;
+    const float c1 = w0 * L.t00[j] + w1 * L.t10[j] + w2 * L.t20[j];
+    const float c2 = w0 * L.t01[j] + w1 * L.t11[j] + w2 * L.t21[j];
+    const float c0 = 1.0f - c1 - c2;
+    b0[j] = c0;
+    b1[j] = c1;
+    b2[j] = c2;
+    float x = L.n[0][j] * c0 + L.n[3][j] * c1 + L.n[6][j] * c2, y = L.n[1][j] * c0 + L.n[4][j] * c1 + L.n[7][j] * c2,
+          z = L.n[2][j] * c0 + L.n[5][j] * c1 + L.n[8][j] * c2;
+    float l2 = x * x + y * y + z * z;
+    float s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
+    x = l2 > 0.0f ? x * s : 0.0f;
+    y = l2 > 0.0f ? y * s : 0.0f;
+    z = l2 > 0.0f ? z * s : 0.0f;
+    nx[j] = x;
+    ny[j] = y;
+    nz[j] = z;
+    const float Px = L.q[0][j] * c0 + L.q[3][j] * c1 + L.q[6][j] * c2, Py = L.q[1][j] * c0 + L.q[4][j] * c1 + L.q[7][j] * c2,
+                Pz = L.q[2][j] * c0 + L.q[5][j] * c1 + L.q[8][j] * c2;
+    float vx = eye.x - Px, vy = eye.y - Py, vz = eye.z - Pz;
+    l2 = vx * vx + vy * vy + vz * vz;
+    s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
+    vx = l2 > 0.0f ? vx * s : 0.0f;
+    vy = l2 > 0.0f ? vy * s : 0.0f;
+    vz = l2 > 0.0f ? vz * s : 0.0f;
+    const float ndl = x * vx + y * vy + z * vz;
+    diffuse[j] = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);
+  }
+}
+RAST_CPU_CLONES void laneLightingWide(const LaneBatch& L, int32_t m, float3 eye, float ambient, float headI,
+                                      float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
+                                      float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
+                                      float* __restrict__ diffuse) {
+  laneLighting(L, m, eye, ambient, headI, b0, b1, b2, nx, ny, nz, diffuse);
+}
+
 // What a span needs of its triangle, looked up and computed once per
 // triangle (Shade::prepare, then the triangle's constants of spanLighting and
 // of the texture) and kept in a small cache while a tile or run is shaded:
@@ -342,6 +414,7 @@ struct SpanTri {
   TriFrag f;
   SpanConsts k;  // all but the span's edge values s0, s1, s2
   SpanTex tex;
+  int32_t spanReady;  // k and tex are set (prepareSpan)
 };
 
 struct SpanTriCache {
@@ -509,19 +582,26 @@ struct ShadeSpans : Shade {
   }
 
   // The cached SpanTri of raster triangle `index`, prepared on a miss.
-  KOKKOS_INLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c) const {
+  // spanConsts: with k and tex too (a batch's lanes need only f).
+  KOKKOS_INLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c, bool spanConsts = true) const {
     for (int s = 0; s < SpanTriCache::kSlots; ++s)
-      if (c.key[s] == index) return c.slot[s];
+      if (c.key[s] == index) {
+        SpanTri& st = c.slot[s];
+        if (spanConsts && !st.spanReady && !(index & kLineFlag)) prepareSpan(st);
+        return st;
+      }
     c.key[c.next] = index;
     SpanTri& st = c.slot[c.next];
     c.next = c.next + 1 < SpanTriCache::kSlots ? c.next + 1 : 0;
     prepare(index, st.f);
-    if (!(index & kLineFlag)) prepareSpan(st);
+    st.spanReady = 0;
+    if (spanConsts && !(index & kLineFlag)) prepareSpan(st);
     return st;
   }
 
   // The per-triangle part of span(): spanLighting's constants and the texture's.
   KOKKOS_INLINE_FUNCTION void prepareSpan(SpanTri& st) const {
+    st.spanReady = 1;
     const TriFrag& f = st.f;
     const RasterTri& t = *f.t;
     const Edges& e = f.e;
@@ -573,7 +653,10 @@ struct ShadeSpans : Shade {
         primOut(row + j) = id == 0 ? 0 : (id - 1) & kLineFlag ? lineShade.primId((id - 1) & ~kLineFlag) : tris(id - 1).prim + 1;
       }
     // Runs found kRunMaskBits pixels at a time (runStarts); a run across a
-    // boundary becomes two spans, which shade the same pixels alike.
+    // boundary becomes two spans, which shade the same pixels alike. Short
+    // runs of untextured triangles go to a batch, shaded last (n <=
+    // kMaxSpanRun: one batch holds them all).
+    LaneBatch batch;
     for (int32_t base = 0; base < n; base += kRunMaskBits) {
       const int32_t end = n - base < kRunMaskBits ? n : base + kRunMaskBits;
       for (uint64_t starts = runStarts(idx + base, end - base); starts;) {
@@ -589,16 +672,119 @@ struct ShadeSpans : Shade {
             const uint32_t bg = p.backgroundPacked;
             for (int32_t m = j; m < k; ++m) dst[m] = bg;
           }
-        } else {
+        } else if ((id - 1) & kLineFlag) {
           SpanTri& st = lookup(id - 1, cache);
-          if ((id - 1) & kLineFlag) {
-            for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, x0 + m, Y, 0, 0, 0.0f, nullptr));
+          for (int32_t m = j; m < k; ++m) put(row + m, shadeFragment(st.f, x0 + m, Y, 0, 0, 0.0f, nullptr));
+        } else if (k - j < kLaneRunMax) {
+          SpanTri& st = lookup(id - 1, cache, false);
+          if (st.f.textured) {
+            span(lookup(id - 1, cache), row + j, x0 + j, Y, k - j);
           } else {
-            span(st, row + j, x0 + j, Y, k - j);
+            if (batch.m + (k - j) > kMaxSpanRun) shadeBatch(batch, int64_t(Y) * width, Y);  // rows of a wide tile
+            addLanes(batch, st.f, x0 + j, Y, k - j);
           }
+        } else {
+          span(lookup(id - 1, cache), row + j, x0 + j, Y, k - j);
         }
       }
     }
+    if (batch.m) shadeBatch(batch, int64_t(Y) * width, Y);
+  }
+
+  // Pixels [xa, xa + len) of row Y, of triangle f, as lanes of the batch.
+  KOKKOS_INLINE_FUNCTION void addLanes(LaneBatch& L, const TriFrag& f, int32_t xa, int32_t Y, int32_t len) const {
+    const bool persp = p.perspective != 0;
+    for (int32_t i = 0; i < len; ++i) {
+      const int32_t j = L.m++;
+      const int32_t X = xa + i;
+      L.X[j] = X;
+      L.e0[j] = float(double(f.e.eval(0, X, Y)));  // as span(): exact in double, then rounded once
+      L.e1[j] = float(double(f.e.eval(1, X, Y)));
+      L.e2[j] = float(double(f.e.eval(2, X, Y)));
+      L.ia[j] = f.invArea;
+      L.iw0[j] = persp ? f.invW[0] : 1.0f;
+      L.iw1[j] = persp ? f.invW[1] : 1.0f;
+      L.iw2[j] = persp ? f.invW[2] : 1.0f;
+      L.t00[j] = f.corner[0][0]; L.t10[j] = f.corner[1][0]; L.t20[j] = f.corner[2][0];
+      L.t01[j] = f.corner[0][1]; L.t11[j] = f.corner[1][1]; L.t21[j] = f.corner[2][1];
+      for (int c = 0; c < 3; ++c) {
+        L.n[3 * c][j] = f.n[c].x; L.n[3 * c + 1][j] = f.n[c].y; L.n[3 * c + 2][j] = f.n[c].z;
+        L.q[3 * c][j] = f.pos[c].x; L.q[3 * c + 1][j] = f.pos[c].y; L.q[3 * c + 2][j] = f.pos[c].z;
+      }
+      L.base[0][j] = f.baseColor.x; L.base[1][j] = f.baseColor.y; L.base[2][j] = f.baseColor.z; L.base[3][j] = f.baseColor.w;
+      if (hasColor)
+        for (int c = 0; c < 3; ++c) {
+          L.col[4 * c][j] = f.col[c].x; L.col[4 * c + 1][j] = f.col[c].y;
+          L.col[4 * c + 2][j] = f.col[c].z; L.col[4 * c + 3][j] = f.col[c].w;
+        }
+    }
+  }
+
+  // The batch's pixels of row Y (rowStart: its first pixel's index): as
+  // shadeLanes, each lane with its own triangle's constants.
+  KOKKOS_INLINE_FUNCTION void shadeBatch(LaneBatch& L, int64_t rowStart, int32_t Y) const {  // empties it
+    const int32_t m = L.m;
+    const bool wide = m >= kSpanWideMin;
+    const int32_t mb = wide ? spanBlocks(m) : m;
+    for (int32_t i = m; i < mb; ++i) {  // the last block's spare lanes: lane 0's triangle and pixel
+      L.X[i] = L.X[0];
+      L.e0[i] = L.e0[0]; L.e1[i] = L.e1[0]; L.e2[i] = L.e2[0];
+      L.ia[i] = L.ia[0]; L.iw0[i] = L.iw0[0]; L.iw1[i] = L.iw1[0]; L.iw2[i] = L.iw2[0];
+      L.t00[i] = L.t00[0]; L.t10[i] = L.t10[0]; L.t20[i] = L.t20[0];
+      L.t01[i] = L.t01[0]; L.t11[i] = L.t11[0]; L.t21[i] = L.t21[0];
+      for (int c = 0; c < 9; ++c) {
+        L.n[c][i] = L.n[c][0];
+        L.q[c][i] = L.q[c][0];
+      }
+      for (int c = 0; c < 4; ++c) L.base[c][i] = L.base[c][0];
+      if (hasColor)
+        for (int c = 0; c < 12; ++c) L.col[c][i] = L.col[c][0];
+    }
+    float b0[kMaxSpanRun], b1[kMaxSpanRun], b2[kMaxSpanRun];
+    float nx[kMaxSpanRun], ny[kMaxSpanRun], nz[kMaxSpanRun];
+    float diffuse[kMaxSpanRun];
+    const float3 eye = p.frame(0).camera.eye;
+    const float headI = p.headlight ? 1.0f - p.ambient : 0.0f;
+    if (wide) laneLightingWide(L, mb, eye, p.ambient, headI, b0, b1, b2, nx, ny, nz, diffuse);
+    else laneLighting(L, mb, eye, p.ambient, headI, b0, b1, b2, nx, ny, nz, diffuse);
+    if (!p.headlight) {
+      const int nl = int(lights.extent(0));
+      for (int l = 0; l < nl; ++l) {
+        const float3 Ld = lights(l).direction;
+        const float I = lights(l).intensity;
+        for (int32_t j = 0; j < mb; ++j) {
+          const float ndl = nx[j] * Ld.x + ny[j] * Ld.y + nz[j] * Ld.z;
+          diffuse[j] += I * (ndl > 0.0f ? ndl : 0.0f);
+        }
+      }
+    }
+    float br[kMaxSpanRun], bg[kMaxSpanRun], bb[kMaxSpanRun], ba[kMaxSpanRun];
+    for (int32_t j = 0; j < mb; ++j) {
+      br[j] = L.base[0][j];
+      bg[j] = L.base[1][j];
+      bb[j] = L.base[2][j];
+      ba[j] = L.base[3][j];
+    }
+    if (hasColor)
+      for (int32_t j = 0; j < mb; ++j) {  // as shadeLanes, with each lane's corner colours
+        br[j] = br[j] * (L.col[0][j] * b0[j] + L.col[4][j] * b1[j] + L.col[8][j] * b2[j]);
+        bg[j] = bg[j] * (L.col[1][j] * b0[j] + L.col[5][j] * b1[j] + L.col[9][j] * b2[j]);
+        bb[j] = bb[j] * (L.col[2][j] * b0[j] + L.col[6][j] * b1[j] + L.col[10][j] * b2[j]);
+        ba[j] = ba[j] * (L.col[3][j] * b0[j] + L.col[7][j] * b1[j] + L.col[11][j] * b2[j]);
+      }
+    if (!p.floatOut) {
+      uint32_t px[kMaxSpanRun];
+      if (wide) packSpanWide(mb, m, br, bg, bb, ba, diffuse, encodePacked.data(), px);
+      else packSpan(mb, m, br, bg, bb, ba, diffuse, encodePacked.data(), px);
+      for (int32_t j = 0; j < m; ++j) color(rowStart + L.X[j]) = px[j];
+      L.m = 0;
+      return;
+    }
+    for (int32_t j = 0; j < m; ++j) {
+      const float d = diffuse[j];
+      hdr(rowStart + L.X[j]) = float4{br[j] * d + 0.0f, bg[j] * d + 0.0f, bb[j] * d + 0.0f, ba[j]};
+    }
+    L.m = 0;
   }
 
   // Pixels [xa, xa + m) of row Y, all of st's triangle (a raster triangle).

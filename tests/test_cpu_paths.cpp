@@ -141,6 +141,17 @@ TEST_CASE("shading in runs and spans gives the per-pixel images", "[cpu-paths]")
   RenderSettings msaa = rs;
   msaa.msaa = 4;
   compareRuns("default, msaa4", d, defaultCamera(d), msaa);
+  // Pixels of tiny triangles, shaded as lanes of a batch (ShadeSpans::
+  // shadeBatch): with lights, the float film, affine weights and vertex colours.
+  Scene tiny = builtinScene("builtin:tiny?n=20000");
+  const Camera tinyCam = defaultCamera(tiny);
+  compareRuns("tiny, two lights, background", tiny, tinyCam, lit);
+  compareRuns("tiny, float film", tiny, tinyCam, film);
+  compareRuns("tiny, affine", tiny, tinyCam, affine);
+  tiny.colors.resize(tiny.positions.size());
+  for (size_t v = 0; v < tiny.colors.size(); ++v)
+    tiny.colors[v] = float4{float(v % 7) / 6.0f, float(v % 5) / 4.0f, float(v % 3) / 2.0f, 1.0f};
+  compareRuns("tiny, vertex colours", tiny, tinyCam, rs);
 
   const std::string a = assimpDir();
   if (!a.empty()) {  // textured: bilinear and nearest
