@@ -150,7 +150,7 @@ TEST_CASE("shading in runs and spans gives the per-pixel images", "[cpu-paths]")
   compareRuns("tiny, affine", tiny, tinyCam, affine);
   tiny.colors.resize(tiny.positions.size());
   for (size_t v = 0; v < tiny.colors.size(); ++v)
-    tiny.colors[v] = float4{float(v % 7) / 6.0f, float(v % 5) / 4.0f, float(v % 3) / 2.0f, 1.0f};
+    tiny.colors[v] = rast::float4{float(v % 7) / 6.0f, float(v % 5) / 4.0f, float(v % 3) / 2.0f, 1.0f};
   compareRuns("tiny, vertex colours", tiny, tinyCam, rs);
 
   const std::string a = assimpDir();
@@ -410,7 +410,8 @@ TEST_CASE("the GPU's primitive setup, run on the host, gives the host's images",
         what.push_back("the GPU's setup, teams of " + std::to_string(team));
       }
       setGpuSetupOnHostForTests(0);
-      for (const std::pair<int, int>& host : {std::pair<int, int>{3, 1}, {1, -1}, {0, 1}}) {
+      const std::pair<int, int> hostSetups[] = {{3, 1}, {1, -1}, {0, 1}};  // staged, stream
+      for (const std::pair<int, int>& host : hostSetups) {
         setHostSetupForTests(host.first, host.second);
         gpu.push_back(renderFrame(c.scene, c.cam, rs));
         what.push_back("the host's setup staging " + std::to_string(host.first) + (host.second > 0 ? ", streamed" : ""));
