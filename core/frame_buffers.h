@@ -48,10 +48,10 @@ struct FrameBuffers {
   DView<SnapVert> snap;      // per drawn vertex: window position, or why it needs clipping
   DView<float3> worldPos;    // per drawn vertex, only when shading needs it
   DView<float3> worldNormal; // per drawn vertex, only when shading needs it
-  DView<uint32_t> chunkOffset; // per chunk of drawn triangles: raster triangles, then their exclusive prefix sum
-  DView<uint32_t> chunkBlocks; // per chunk of drawn triangles (after a count pass): the visbuffer's first work item
-  DView<uint64_t> setupStatus; // per chunk of drawn triangles (GPUs, few chunks): the setup's look-back status, tagged by frame
-  DView<uint8_t> clipCount;    // per drawn triangle that needs clipping: its raster triangles (setup's count -> write)
+  DView<uint32_t> chunkOffset; // per chunk of drawn triangles (GPUs): raster triangles, then their exclusive prefix sum
+  DView<uint32_t> chunkBlocks; // per chunk of drawn triangles (GPUs, after a count pass): the visbuffer's first work item
+  DView<uint64_t> setupStatus; // per chunk of drawn triangles (GPUs with few chunks, hosts): the setup's look-back status, tagged by frame
+  DView<uint8_t> clipCount;    // per drawn triangle that needs clipping: its raster triangles (GPUs: setup's count -> write)
   DView<uint32_t> clipBlocks;  // the same triangles' visbuffer work items (GPUs, count pass -> write)
   DView<RasterTri> tris;     // raster triangles
   DView<uint32_t> workOffset;  // per raster triangle, for methods that expand work (visbuffer: its first item)

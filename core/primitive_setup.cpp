@@ -178,8 +178,8 @@ KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
 // The GPU's count pass, for scenes of more than kSetupLookBackMaxChunks
 // chunks: one team per chunk counts its raster triangles (and, with blocks,
 // visbuffer items), keeping each clipped triangle's counts for the write
-// pass; the team that finishes last (a ticket, as CountChunksHost) scans the
-// chunks' totals, by all its threads.
+// pass; the team that finishes last (a ticket: the fences order each team's
+// totals before its ticket) scans the chunks' totals, by all its threads.
 struct CountChunks {
   SetupCommon c;
   DView<uint32_t> chunkCount, chunkBlocks, counters, clipBlocks;
@@ -615,9 +615,8 @@ struct SetupChunksHost {
 int hostSetupRoomForTests = 0, hostSetupStreamForTests = 0;  // setHostSetupForTests
 
 // Launches the setup: one pass of WriteChunks' teams of teamSize threads on
-// GPUs (and on host backends under setGpuSetupOnHostForTests); the count pass
-// (more than one chunk) and WriteChunksHost on host backends (not built for
-// GPUs).
+// GPUs (and on host backends under setGpuSetupOnHostForTests); one pass of
+// SetupChunksHost on host backends (not built for GPUs).
 template <bool kHost>
 void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool blocks, int teamSize,
                  const OccluderList& occ) {
@@ -637,6 +636,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
     // back, kLookBackBatch chunks a step): beyond kSetupLookBackMaxChunks a
     // count pass first.
     const bool lookBack = chunks <= kSetupLookBackMaxChunks;
+    ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks);
     if (lookBack && f.setupStatus.extent(0) < size_t(chunks) * kStatusWords)  // zeroed: no flag of a frame yet
       f.setupStatus = allocZeroed<uint64_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
     if (!lookBack) {
@@ -680,7 +680,6 @@ void setHostSetupForTests(int staged, int stream) {
 
 void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks, bool occluders) {
   const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
-  ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks > 0 ? chunks : 1);
   if (numberBlocks) {
     ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
     // A hint per raster triangle, and a few more for scenes of large ones;
