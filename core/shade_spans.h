@@ -48,6 +48,49 @@ struct SpanConsts {
   float ambient, headI;           // headI: the headlight's intensity, 0 without it
 };
 
+// One pixel of spanLightingFrom's loop (and of laneLighting's): from the
+// screen-space weights times 1/w (w0..w2), the weights in the drawn triangle
+// (c0..c2), the unit normal and the headlight's diffuse term, as
+// Shade::shadeFragment computes them. Forced inline, so that both loops
+// vectorize over it.
+KOKKOS_FORCEINLINE_FUNCTION void litPixel(float w0, float w1, float w2, float t00, float t10, float t20, float t01,
+                                          float t11, float t21, float3 n0, float3 n1, float3 n2, float3 q0, float3 q1,
+                                          float3 q2, float3 eye, float ambient, float headI, float& c0, float& c1,
+                                          float& c2, float& nx, float& ny, float& nz, float& diffuse) {
+  const float third = 1.0f / 3.0f;
+  const float sum = w0 + w1 + w2;
+  const bool ok = (sum != 0.0f) & (sum - sum == 0.0f);  // nonzero and finite (isFinite); no branch
+  const float inv = 1.0f / sum;
+  w0 = ok ? w0 * inv : third;
+  w1 = ok ? w1 * inv : third;
+  w2 = ok ? w2 * inv : third;
+  c1 = w0 * t00 + w1 * t10 + w2 * t20;
+  c2 = w0 * t01 + w1 * t11 + w2 * t21;
+  c0 = 1.0f - c1 - c2;
+  // normalize() of the interpolated normal
+  float x = n0.x * c0 + n1.x * c1 + n2.x * c2, y = n0.y * c0 + n1.y * c1 + n2.y * c2,
+        z = n0.z * c0 + n1.z * c1 + n2.z * c2;
+  float l2 = x * x + y * y + z * z;
+  float s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
+  x = l2 > 0.0f ? x * s : 0.0f;
+  y = l2 > 0.0f ? y * s : 0.0f;
+  z = l2 > 0.0f ? z * s : 0.0f;
+  nx = x;
+  ny = y;
+  nz = z;
+  const float Px = q0.x * c0 + q1.x * c1 + q2.x * c2, Py = q0.y * c0 + q1.y * c1 + q2.y * c2,
+              Pz = q0.z * c0 + q1.z * c1 + q2.z * c2;
+  // The headlight: L = V = normalize(eye - P), intensity 1 - ambient.
+  float vx = eye.x - Px, vy = eye.y - Py, vz = eye.z - Pz;
+  l2 = vx * vx + vy * vy + vz * vz;
+  s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
+  vx = l2 > 0.0f ? vx * s : 0.0f;
+  vy = l2 > 0.0f ? vy * s : 0.0f;
+  vz = l2 > 0.0f ? vz * s : 0.0f;
+  const float ndl = x * vx + y * vy + z * vz;
+  diffuse = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);  // exactly ambient without the headlight
+}
+
 // The arithmetic of a span, as loops over its pixels that the compiler
 // vectorizes (also for AVX-512 and AVX2: cpu_clones.h): spanLighting for a row span,
 // spanLightingLanes for pixels given by their coordinates; both then
@@ -90,44 +133,10 @@ KOKKOS_FORCEINLINE_FUNCTION void spanLightingFrom(const SpanConsts& k, int32_t m
   const float iw0 = k.iw0, iw1 = k.iw1, iw2 = k.iw2;
   const float t00 = k.t00, t10 = k.t10, t20 = k.t20, t01 = k.t01, t11 = k.t11, t21 = k.t21;
   const float3 n0 = k.n0, n1 = k.n1, n2 = k.n2, q0 = k.q0, q1 = k.q1, q2 = k.q2, eye = k.eye;
-  const float ambient = k.ambient, headI = k.headI, third = 1.0f / 3.0f;
-    for (int32_t j = 0; j < m; ++j) {
-      float w0 = b0[j] * iw0, w1 = b1[j] * iw1, w2 = b2[j] * iw2;
-      const float sum = w0 + w1 + w2;
-      const bool ok = (sum != 0.0f) & (sum - sum == 0.0f);  // nonzero and finite (isFinite); no branch
-      const float inv = 1.0f / sum;
-      w0 = ok ? w0 * inv : third;
-      w1 = ok ? w1 * inv : third;
-      w2 = ok ? w2 * inv : third;
-      const float c1 = w0 * t00 + w1 * t10 + w2 * t20;
-      const float c2 = w0 * t01 + w1 * t11 + w2 * t21;
-      const float c0 = 1.0f - c1 - c2;
-      b0[j] = c0;
-      b1[j] = c1;
-      b2[j] = c2;
-      // normalize() of the interpolated normal
-      float x = n0.x * c0 + n1.x * c1 + n2.x * c2, y = n0.y * c0 + n1.y * c1 + n2.y * c2,
-            z = n0.z * c0 + n1.z * c1 + n2.z * c2;
-      float l2 = x * x + y * y + z * z;
-      float s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
-      x = l2 > 0.0f ? x * s : 0.0f;
-      y = l2 > 0.0f ? y * s : 0.0f;
-      z = l2 > 0.0f ? z * s : 0.0f;
-      nx[j] = x;
-      ny[j] = y;
-      nz[j] = z;
-      const float Px = q0.x * c0 + q1.x * c1 + q2.x * c2, Py = q0.y * c0 + q1.y * c1 + q2.y * c2,
-                  Pz = q0.z * c0 + q1.z * c1 + q2.z * c2;
-      // The headlight: L = V = normalize(eye - P), intensity 1 - ambient.
-      float vx = eye.x - Px, vy = eye.y - Py, vz = eye.z - Pz;
-      l2 = vx * vx + vy * vy + vz * vz;
-      s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
-      vx = l2 > 0.0f ? vx * s : 0.0f;
-      vy = l2 > 0.0f ? vy * s : 0.0f;
-      vz = l2 > 0.0f ? vz * s : 0.0f;
-      const float ndl = x * vx + y * vy + z * vz;
-      diffuse[j] = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);  // exactly ambient without the headlight
-    }
+  const float ambient = k.ambient, headI = k.headI;
+  for (int32_t j = 0; j < m; ++j)
+    litPixel(b0[j] * iw0, b1[j] * iw1, b2[j] * iw2, t00, t10, t20, t01, t11, t21, n0, n1, n2, q0, q1, q2, eye, ambient,
+             headI, b0[j], b1[j], b2[j], nx[j], ny[j], nz[j], diffuse[j]);
 }
 RAST_CPU_CLONES void spanLightingLanesWide(const SpanConsts& k, int32_t m, const int32_t* __restrict__ X,
                                            const int32_t* __restrict__ Y,
@@ -360,43 +369,15 @@ KOKKOS_FORCEINLINE_FUNCTION void laneLighting(const LaneBatch& L, int32_t m, flo
                                               float* __restrict__ b0, float* __restrict__ b1, float* __restrict__ b2,
                                               float* __restrict__ nx, float* __restrict__ ny, float* __restrict__ nz,
                                               float* __restrict__ diffuse) {
-  const float third = 1.0f / 3.0f;
   for (int32_t j = 0; j < m; ++j) {
     const float ia = L.ia[j];
     // Shade::bary's screen-space weights: l0 from edge 1, l1 from edge 2, l2 from edge 0
-    float w0 = (L.e1[j] * ia) * L.iw0[j], w1 = (L.e2[j] * ia) * L.iw1[j], w2 = (L.e0[j] * ia) * L.iw2[j];
-    const float sum = w0 + w1 + w2;
-    const bool ok = (sum != 0.0f) & (sum - sum == 0.0f);
-    const float inv = 1.0f / sum;
-    w0 = ok ? w0 * inv : third;
-    w1 = ok ? w1 * inv : third;
-    w2 = ok ? w2 * inv : third;
-    const float c1 = w0 * L.t00[j] + w1 * L.t10[j] + w2 * L.t20[j];
-    const float c2 = w0 * L.t01[j] + w1 * L.t11[j] + w2 * L.t21[j];
-    const float c0 = 1.0f - c1 - c2;
-    b0[j] = c0;
-    b1[j] = c1;
-    b2[j] = c2;
-    float x = L.n[0][j] * c0 + L.n[3][j] * c1 + L.n[6][j] * c2, y = L.n[1][j] * c0 + L.n[4][j] * c1 + L.n[7][j] * c2,
-          z = L.n[2][j] * c0 + L.n[5][j] * c1 + L.n[8][j] * c2;
-    float l2 = x * x + y * y + z * z;
-    float s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
-    x = l2 > 0.0f ? x * s : 0.0f;
-    y = l2 > 0.0f ? y * s : 0.0f;
-    z = l2 > 0.0f ? z * s : 0.0f;
-    nx[j] = x;
-    ny[j] = y;
-    nz[j] = z;
-    const float Px = L.q[0][j] * c0 + L.q[3][j] * c1 + L.q[6][j] * c2, Py = L.q[1][j] * c0 + L.q[4][j] * c1 + L.q[7][j] * c2,
-                Pz = L.q[2][j] * c0 + L.q[5][j] * c1 + L.q[8][j] * c2;
-    float vx = eye.x - Px, vy = eye.y - Py, vz = eye.z - Pz;
-    l2 = vx * vx + vy * vy + vz * vz;
-    s = 1.0f / ::sqrtf(l2 > 0.0f ? l2 : 1.0f);
-    vx = l2 > 0.0f ? vx * s : 0.0f;
-    vy = l2 > 0.0f ? vy * s : 0.0f;
-    vz = l2 > 0.0f ? vz * s : 0.0f;
-    const float ndl = x * vx + y * vy + z * vz;
-    diffuse[j] = ambient + headI * (ndl > 0.0f ? ndl : 0.0f);
+    litPixel((L.e1[j] * ia) * L.iw0[j], (L.e2[j] * ia) * L.iw1[j], (L.e0[j] * ia) * L.iw2[j], L.t00[j], L.t10[j],
+             L.t20[j], L.t01[j], L.t11[j], L.t21[j], float3{L.n[0][j], L.n[1][j], L.n[2][j]},
+             float3{L.n[3][j], L.n[4][j], L.n[5][j]}, float3{L.n[6][j], L.n[7][j], L.n[8][j]},
+             float3{L.q[0][j], L.q[1][j], L.q[2][j]}, float3{L.q[3][j], L.q[4][j], L.q[5][j]},
+             float3{L.q[6][j], L.q[7][j], L.q[8][j]}, eye, ambient, headI, b0[j], b1[j], b2[j], nx[j], ny[j], nz[j],
+             diffuse[j]);
   }
 }
 RAST_CPU_CLONES void laneLightingWide(const LaneBatch& L, int32_t m, float3 eye, float ambient, float headI,
@@ -691,6 +672,22 @@ struct ShadeSpans : Shade {
     if (batch.m) shadeBatch(batch, int64_t(Y) * width, Y);
   }
 
+  // The scene's directional lights (without the headlight) added to the
+  // diffuse terms of mb lanes, given their normals.
+  KOKKOS_INLINE_FUNCTION void addLights(int32_t mb, const float* nx, const float* ny, const float* nz,
+                                        float* diffuse) const {
+    if (p.headlight) return;
+    const int nl = int(lights.extent(0));
+    for (int l = 0; l < nl; ++l) {
+      const float3 L = lights(l).direction;
+      const float I = lights(l).intensity;
+      for (int32_t j = 0; j < mb; ++j) {
+        const float ndl = nx[j] * L.x + ny[j] * L.y + nz[j] * L.z;
+        diffuse[j] += I * (ndl > 0.0f ? ndl : 0.0f);
+      }
+    }
+  }
+
   // Pixels [xa, xa + len) of row Y, of triangle f, as lanes of the batch.
   KOKKOS_INLINE_FUNCTION void addLanes(LaneBatch& L, const TriFrag& f, int32_t xa, int32_t Y, int32_t len) const {
     const bool persp = p.perspective != 0;
@@ -747,17 +744,7 @@ struct ShadeSpans : Shade {
     const float headI = p.headlight ? 1.0f - p.ambient : 0.0f;
     if (wide) laneLightingWide(L, mb, eye, p.ambient, headI, b0, b1, b2, nx, ny, nz, diffuse);
     else laneLighting(L, mb, eye, p.ambient, headI, b0, b1, b2, nx, ny, nz, diffuse);
-    if (!p.headlight) {
-      const int nl = int(lights.extent(0));
-      for (int l = 0; l < nl; ++l) {
-        const float3 Ld = lights(l).direction;
-        const float I = lights(l).intensity;
-        for (int32_t j = 0; j < mb; ++j) {
-          const float ndl = nx[j] * Ld.x + ny[j] * Ld.y + nz[j] * Ld.z;
-          diffuse[j] += I * (ndl > 0.0f ? ndl : 0.0f);
-        }
-      }
-    }
+    addLights(mb, nx, ny, nz, diffuse);
     float br[kMaxSpanRun], bg[kMaxSpanRun], bb[kMaxSpanRun], ba[kMaxSpanRun];
     for (int32_t j = 0; j < mb; ++j) {
       br[j] = L.base[0][j];
@@ -823,17 +810,7 @@ struct ShadeSpans : Shade {
       if (wide) spanLightingWide(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
       else spanLighting(k, mb, b0, b1, b2, nx, ny, nz, diffuse);
     }
-    if (!p.headlight) {
-      const int nl = int(lights.extent(0));
-      for (int l = 0; l < nl; ++l) {
-        const float3 L = lights(l).direction;
-        const float I = lights(l).intensity;
-        for (int32_t j = 0; j < mb; ++j) {
-          const float ndl = nx[j] * L.x + ny[j] * L.y + nz[j] * L.z;
-          diffuse[j] += I * (ndl > 0.0f ? ndl : 0.0f);
-        }
-      }
-    }
+    addLights(mb, nx, ny, nz, diffuse);
     // Base colour: material, texture, vertex colour.
     const float4 bc = f.baseColor;
     for (int32_t j = 0; j < mb; ++j) {
