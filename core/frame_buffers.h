@@ -15,7 +15,7 @@ namespace rast {
 enum Counter : int {
   kRasterTris = 0,  // raster triangles the setup produced (may exceed the capacity)
   kRasterWork = 1,  // work items of the raster method (chunks, bin entries, ...)
-  kSetupDone = 2,   // setup's count pass: teams finished (back to 0 by the last; primitive_setup.cpp)
+  kSetupDone = 2,   // setup: chunk tickets drawn, or count-pass teams finished (back to 0 by the last; primitive_setup.cpp)
   kNumCounters = 4
 };
 

@@ -507,6 +507,12 @@ struct SetupChunksHost {
     ++o;
   }
 
+  // Raster triangle rt stored as number o (within the capacity), and numbered.
+  void write(const RasterTri& rt, uint32_t& o, uint32_t& item, uint32_t tag) const {
+    if (o < capacity) tris(o) = rt;
+    number(rt, o, item, tag);
+  }
+
   // The raster triangles and work items before chunk `chunk`: the totals
   // through the chunk before, once published this frame.
   void waitBase(uint32_t chunk, uint32_t tag, uint32_t& o, uint32_t& item) const {
@@ -563,14 +569,10 @@ struct SetupChunksHost {
           return;
         }
         waitBase(chunk, tag, o, item);  // the buffer is full: write it, then go on directly
-        for (uint32_t i = 0; i < n; ++i) {
-          if (o < capacity) tris(o) = staged[i];
-          number(staged[i], o, item, tag);
-        }
+        for (uint32_t i = 0; i < n; ++i) write(staged[i], o, item, tag);
         direct = true;
       }
-      if (o < capacity) tris(o) = rt;
-      number(rt, o, item, tag);
+      write(rt, o, item, tag);
     };
     for (uint32_t i = 0; i < len; ++i) {
       bool clipped;
