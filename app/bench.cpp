@@ -1,9 +1,9 @@
-#include "bench.h"
+#include "app/bench.h"
 
-#include "../backends/stage_timer.h"
-#include "../core/renderer.h"
-#include "../models/procedural.h"
-#include "progress.h"
+#include "backends/stage_timer.h"
+#include "pipeline/frame/renderer.h"
+#include "scenes/procedural.h"
+#include "app/progress.h"
 
 #include <algorithm>
 #include <cstdio>

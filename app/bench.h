@@ -2,7 +2,7 @@
 // stage and of the whole frame, as a table and as JSON/CSV rows.
 #pragma once
 
-#include "cli_options.h"
+#include "app/cli_options.h"
 
 namespace rast {
 

@@ -1,6 +1,6 @@
-#include "cli_options.h"
+#include "app/cli_options.h"
 
-#include "../core/memory_budget.h"
+#include "host/scene/memory_budget.h"
 
 #include <cmath>
 #include <cstdio>

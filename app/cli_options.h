@@ -2,9 +2,9 @@
 // viewer): scene, image size, camera and render settings.
 #pragma once
 
-#include "../core/camera.h"
-#include "../core/gltf_loader.h"
-#include "../core/render_settings.h"
+#include "host/scene/camera.h"
+#include "host/gltf/gltf_loader.h"
+#include "host/settings/render_settings.h"
 
 #include <CLI/CLI.hpp>
 

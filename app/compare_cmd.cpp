@@ -1,8 +1,8 @@
-#include "compare_cmd.h"
+#include "app/compare_cmd.h"
 
-#include "../core/image_io.h"
-#include "../core/image_metrics.h"
-#include "../core/scene.h"  // rast::Error
+#include "host/image/image_io.h"
+#include "host/image/image_metrics.h"
+#include "base/error.h"
 
 #include <cmath>
 #include <cstdio>

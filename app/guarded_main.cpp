@@ -1,6 +1,6 @@
-#include "guarded_main.h"
+#include "app/guarded_main.h"
 
-#include "../core/scene.h"
+#include "base/error.h"
 
 #include <Kokkos_Core.hpp>
 

@@ -1,6 +1,6 @@
-#include "progress.h"
+#include "app/progress.h"
 
-#include "../core/scene.h"
+#include "base/error.h"
 
 #include <chrono>
 #include <cstdio>

@@ -6,17 +6,17 @@
 //   rast info
 //
 // Every error ends in one line on stderr and exit status 1.
-#include "../backends/stage_timer.h"
-#include "../core/image_io.h"
-#include "../core/renderer.h"
-#include "../models/gltf_export.h"
-#include "../models/procedural.h"
-#include "bench.h"
-#include "guarded_main.h"
-#include "compare_cmd.h"
-#include "ssao_error_cmd.h"
-#include "cli_options.h"
-#include "progress.h"
+#include "backends/stage_timer.h"
+#include "host/image/image_io.h"
+#include "pipeline/frame/renderer.h"
+#include "scenes/gltf_export.h"
+#include "scenes/procedural.h"
+#include "app/bench.h"
+#include "app/guarded_main.h"
+#include "app/compare_cmd.h"
+#include "app/ssao_error_cmd.h"
+#include "app/cli_options.h"
+#include "app/progress.h"
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>

@@ -1,11 +1,11 @@
-#include "ssao_error_cmd.h"
+#include "app/ssao_error_cmd.h"
 
-#include "../backends/stage_timer.h"
-#include "../core/ao_reference.h"
-#include "../core/image_io.h"
-#include "../core/post/ssao.h"
-#include "../core/renderer.h"
-#include "../models/procedural.h"
+#include "backends/stage_timer.h"
+#include "host/image/ao_reference.h"
+#include "host/image/image_io.h"
+#include "pipeline/post/ssao.h"
+#include "pipeline/frame/renderer.h"
+#include "scenes/procedural.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 // the data of the speed-versus-accuracy chart in docs/post.md.
 #pragma once
 
-#include "cli_options.h"
+#include "app/cli_options.h"
 
 #include <string>
 

@@ -1,11 +1,11 @@
 // CUDA backend: stage timing with cudaEvents on Kokkos' CUDA stream, frames
 // recorded as CUDA graphs by stream capture, and the device's name and size
 // for `rast info`.
-#include "event_stage_timer.h"
-#include "exec_space.h"
-#include "frame_graphs.h"
-#include "recorded_frames.h"
-#include "stage_timer.h"
+#include "backends/event_stage_timer.h"
+#include "backends/exec_space.h"
+#include "backends/frame_graphs.h"
+#include "backends/recorded_frames.h"
+#include "backends/stage_timer.h"
 
 #include <cuda_runtime.h>
 
@@ -72,7 +72,7 @@ namespace {
 // recorded after each copy. That wait was a driver call in every frame,
 // before its launch, even with the copy long done: on the H100 the host's
 // time to queue a frame fell from 8.4 to 6.2 us without it, and frames
-// 0.4-2.3 us (docs/performance.md).
+// 0.4-2.3 us (docs/journal/performance-2026-11-*.md).
 class CudaGraphs {
  public:
   using Exec = cudaGraphExec_t;

@@ -1,9 +1,9 @@
 // HIP backend (AMD GPUs): stage timing with hipEvents on Kokkos' HIP stream,
 // and the device's name, architecture and size for `rast info`.
-#include "event_stage_timer.h"
-#include "exec_space.h"
-#include "frame_graphs.h"
-#include "stage_timer.h"
+#include "backends/event_stage_timer.h"
+#include "backends/exec_space.h"
+#include "backends/frame_graphs.h"
+#include "backends/stage_timer.h"
 
 #include <hip/hip_runtime.h>
 

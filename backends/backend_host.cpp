@@ -1,10 +1,10 @@
 // Host backends (Serial, OpenMP, and any other space whose kernels run on the
 // host's cores): stage timing by fence and host clock, which costs nothing
 // extra because these backends run kernels synchronously anyway.
-#include "frame_graphs.h"
-#include "stage_timer.h"
+#include "backends/frame_graphs.h"
+#include "backends/stage_timer.h"
 
-#include "exec_space.h"
+#include "backends/exec_space.h"
 
 #include <cstring>
 #include <sstream>

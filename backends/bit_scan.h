@@ -1,7 +1,7 @@
 // The index of a word's lowest set bit: a compiler builtin on the host, the
 // device's own instruction under CUDA and HIP (backend-specific, so it lives
 // in backends/). The CPU's fused shading finds a row's runs with it
-// (core/shade_spans.h).
+// (pipeline/cpu/shade_spans.h).
 #pragma once
 
 #include <Kokkos_Core.hpp>

@@ -1,4 +1,4 @@
-#include "exec_space.h"
+#include "backends/exec_space.h"
 
 #include <sstream>
 

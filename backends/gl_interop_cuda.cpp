@@ -1,8 +1,8 @@
 // CUDA-GL interop (CUDA builds of rast-viewer): the texture is registered
 // once, and each frame is map, copy device to device, unmap. No host copy.
-#include "gl_interop.h"
+#include "backends/gl_interop.h"
 
-#include "exec_space.h"
+#include "backends/exec_space.h"
 
 #include <GL/gl.h>
 #include <cuda_gl_interop.h>

@@ -1,7 +1,7 @@
 // Builds without graphics interop (host backends, HIP for now): the viewer
 // uploads the colour buffer through the host. For host backends that is no
 // extra copy: the buffer is already in host memory.
-#include "gl_interop.h"
+#include "backends/gl_interop.h"
 
 namespace rast {
 

@@ -10,9 +10,9 @@
 //   void copy(const FrameGraphs::Upload& u);    // stream: staging buffer -> u.dst
 #pragma once
 
-#include "allocation_epoch.h"
-#include "frame_graphs.h"
-#include "stage_timer.h"
+#include "backends/allocation_epoch.h"
+#include "backends/frame_graphs.h"
+#include "backends/stage_timer.h"
 
 #include <cstdint>
 #include <functional>

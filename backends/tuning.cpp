@@ -1,4 +1,4 @@
-#include "tuning.h"
+#include "backends/tuning.h"
 
 namespace rast {
 

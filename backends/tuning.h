@@ -6,7 +6,7 @@
 // AMD (64-wide wavefronts) alike, which the static_asserts keep true.
 #pragma once
 
-#include "exec_space.h"
+#include "backends/exec_space.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -68,7 +68,7 @@ constexpr double kOccluderMinLayers = 3.0;
 // and duck's 0.080 -> 0.074-0.075, one- and two-chunk scenes even, and
 // engine's setup (475 chunks) from 39.9 us with the count pass to 32.7 in one
 // pass (engine_inside 61.7 -> 55.6), so the limit rose from 24 to 512 (same-run
-// A/Bs, 300 frames, docs/performance.md). Tiny's 3,900 chunks still count first:
+// A/Bs, 300 frames, docs/journal/performance-2026-11-*.md). Tiny's 3,900 chunks still count first:
 // one pass was not measured there with four at a time.
 constexpr uint32_t kSetupLookBackMaxChunks = 512;
 
@@ -112,7 +112,7 @@ constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
 // against Kokkos' own block size): box 0.0661 -> 0.0630 ms, bigtri -0.3 to
 // -3.2 us, milktruck_cab -0.7 to -2.1 us, others -2.1 to +1.7 us with no sign
 // common to the runs; blocks of 64, 128 and 256 gained nothing measurable
-// (docs/performance.md). AMD's {64, 10} is one wavefront a block, unmeasured.
+// (docs/journal/performance-2026-11-*.md). AMD's {64, 10} is one wavefront a block, unmeasured.
 constexpr unsigned kRasterLaunchBounds[2] = {unsigned(kSimdWidth), 640u / unsigned(kSimdWidth)};
 
 // The visbuffer raster with a block's row on consecutive lanes
@@ -122,7 +122,7 @@ constexpr unsigned kRasterLaunchBounds[2] = {unsigned(kSimdWidth), 640u / unsign
 // when the raster triangles' mean bounding box is at least this many pixels
 // and the occluder pass does not (in frames of layered triangles most items
 // are skipped). Same-run A/Bs on the H100, 1920x1080 (frame ms, mean box in
-// pixels, docs/performance.md): milktruck_cab 0.1501 -> 0.1425 (34,000),
+// pixels, docs/journal/performance-2026-11-*.md): milktruck_cab 0.1501 -> 0.1425 (34,000),
 // bigtri 0.1152 -> 0.0968 (2.07 M), box 0.0608 -> 0.0508 (186,000),
 // checkerboard 0.0451 -> 0.0409 (158,000); but milktruck 0.0730 -> 0.0777
 // (1,228), duck +5 us (365), cow +5 us (204), engine +52 us (73), and with
@@ -140,7 +140,7 @@ constexpr uint32_t kRowTeam = kOnDevice ? 16 : 1;
 // faster), engine_inside 0.1945 -> 0.1871; tables for every scene of two or
 // more draws gave milktruck_cab 1 us of shading and nothing else measurable.
 // tiny (one draw, no table) shaded 3 us slower in every build with them, which
-// its code path does not explain (docs/performance.md).
+// its code path does not explain (docs/journal/performance-2026-11-*.md).
 constexpr uint32_t kDrawTableMinDraws = 16;
 
 }  // namespace rast

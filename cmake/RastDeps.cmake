@@ -1,4 +1,4 @@
-# Header-only dependencies from Debian's packages (see scripts/bootstrap.sh):
+# Header-only dependencies from Debian's packages (see scripts/setup/bootstrap.sh):
 # tinygltf + nlohmann-json, stb, GLM, CLI11. Exposed as the interface target
 # rast::deps.
 include_guard(GLOBAL)
@@ -10,7 +10,7 @@ find_path(RAST_JSON_INCLUDE nlohmann/json.hpp)
 find_path(RAST_CLI11_INCLUDE CLI/CLI.hpp)
 foreach(v RAST_TINYGLTF_INCLUDE RAST_STB_INCLUDE RAST_GLM_INCLUDE RAST_JSON_INCLUDE RAST_CLI11_INCLUDE)
   if(NOT ${v})
-    message(FATAL_ERROR "${v} not found: run `bash scripts/bootstrap.sh` (Debian packages "
+    message(FATAL_ERROR "${v} not found: run `bash scripts/setup/bootstrap.sh` (Debian packages "
                         "libtinygltf-dev nlohmann-json3-dev libstb-dev libglm-dev libcli11-dev)")
   endif()
 endforeach()

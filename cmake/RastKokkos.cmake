@@ -9,13 +9,13 @@
 #
 # Routes, first match wins:
 #   (a) installed: find_package(Kokkos CONFIG) honouring Kokkos_ROOT / CMAKE_PREFIX_PATH,
-#       with ${PROJECT_SOURCE_DIR}/.deps/kokkos/install (scripts/bootstrap.sh) as a hint,
+#       with ${PROJECT_SOURCE_DIR}/.deps/kokkos/install (scripts/setup/bootstrap.sh) as a hint,
 #       or .deps/kokkos-hip/install (bootstrap.sh --hip) when RAST_EXEC_SPACE is HIP;
 #   (b) source:    -DRAST_KOKKOS_SOURCE=<Kokkos source tree> is built in-tree
 #                  (OpenMP+Serial by default, CUDA when -DKokkos_ENABLE_CUDA=ON);
 #   (c) download:  RAST_KOKKOS_DOWNLOAD=ON (default) fetches the official Kokkos release
 #                  tarball with FetchContent (needs internet);
-#   (d) otherwise a fatal error pointing at scripts/bootstrap.sh.
+#   (d) otherwise a fatal error pointing at scripts/setup/bootstrap.sh.
 include_guard(GLOBAL)
 
 if(POLICY CMP0074)   # find_package honours <Pkg>_ROOT (variable and environment)
@@ -119,7 +119,7 @@ elseif(RAST_KOKKOS_DOWNLOAD)
 # (d) nothing
 else()
   message(FATAL_ERROR "RastKokkos: no Kokkos found (set Kokkos_ROOT or RAST_KOKKOS_SOURCE); "
-                      "run `bash scripts/bootstrap.sh` to build one into .deps/kokkos/install")
+                      "run `bash scripts/setup/bootstrap.sh` to build one into .deps/kokkos/install")
 endif()
 
 if(NOT TARGET Kokkos::kokkos)

@@ -1,4 +1,4 @@
-#include "gl_display.h"
+#include "app/viewer/gl_display.h"
 
 #include "backends/gl_interop.h"
 

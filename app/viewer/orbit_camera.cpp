@@ -1,4 +1,4 @@
-#include "orbit_camera.h"
+#include "app/viewer/orbit_camera.h"
 
 #include <algorithm>
 #include <cmath>

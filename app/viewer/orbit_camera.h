@@ -1,5 +1,5 @@
 // Orbit / pan / zoom camera of the viewer, kept apart from any window code so
-// that its math is unit-tested (tests/test_orbit_camera.cpp).
+// that its math is unit-tested (tests/unit/test_orbit_camera.cpp).
 //
 // The camera is stored as a target, a distance and two angles around a fixed
 // world "up" axis (taken from the initial camera):
@@ -9,7 +9,7 @@
 // far planes come from the initial camera and do not change.
 #pragma once
 
-#include "../../core/camera.h"
+#include "host/scene/camera.h"
 
 #include <glm/glm.hpp>
 

@@ -1,6 +1,6 @@
-#include "viewer_script.h"
+#include "app/viewer/viewer_script.h"
 
-#include "../../core/scene.h"  // rast::Error
+#include "base/error.h"
 
 #include <GLFW/glfw3.h>
 

@@ -89,7 +89,7 @@ done
 # The soak: 100,000 frames orbiting and toggling every mode key.
 soak_frames=100000
 [ "$quick" = --quick ] && soak_frames=5000
-python3 scripts/viewer_soak.py --viewer "$viewer" --frames "$soak_frames" --size 640x360 --sample-every 10000 \
+python3 scripts/measure/viewer_soak.py --viewer "$viewer" --frames "$soak_frames" --size 640x360 --sample-every 10000 \
   --scene "$m/duck.glb" --json "$out/viewer_soak.json" > "$out/viewer_soak.txt" 2>&1
 echo "soak exit $?" >> "$out/viewer_soak.txt"
 cat "$csv"

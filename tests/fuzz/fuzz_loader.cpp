@@ -1,4 +1,4 @@
-// libFuzzer harness for the glTF/GLB loader (scripts/fuzz_loader.sh builds and
+// libFuzzer harness for the glTF/GLB loader (scripts/fuzz/fuzz_loader.sh builds and
 // runs it; docs/security.md records the campaigns).
 //
 // Each input is written to a file in a private folder and loaded with
@@ -7,7 +7,7 @@
 // a leak, a hang past -timeout, memory past -rss_limit_mb) is a finding.
 // The memory budget is small so that the budget, not libFuzzer's RSS limit,
 // is what stops inputs claiming huge sizes.
-#include "core/gltf_loader.h"
+#include "host/gltf/gltf_loader.h"
 
 #include <unistd.h>
 
@@ -27,7 +27,7 @@ std::string scenePath() {
     // An image and a buffer the inputs may name (found by the dictionary's
     // "a.png" / "a.bin"), so that the external-file paths are exercised too.
     std::ofstream(std::string(dir) + "/a.bin", std::ios::binary) << std::string(64, '\0');
-    static const unsigned char png[] = {  // 1x1 RGBA (tests/adversarial.py's _png(1, 1))
+    static const unsigned char png[] = {  // 1x1 RGBA (tests/support/adversarial.py's _png(1, 1))
         0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00,
         0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x08, 0x06, 0x00, 0x00, 0x00, 0x1f, 0x15, 0xc4, 0x89, 0x00,
         0x00, 0x00, 0x0b, 0x49, 0x44, 0x41, 0x54, 0x78, 0xda, 0x63, 0x60, 0x00, 0x02, 0x00, 0x00, 0x05, 0x00,

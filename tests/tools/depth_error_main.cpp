@@ -1,6 +1,6 @@
 // rast-depth-error: a renderer's depth buffer against the exact depth of the
-// triangles its id buffer names (tests/depth_reference.h), for
-// scripts/depth_error.py. Reads glref's file formats, which rast also writes.
+// triangles its id buffer names (tests/support/depth_reference.h), for
+// scripts/measure/depth_error.py. Reads glref's file formats, which rast also writes.
 //
 //   rast-depth-error SCENE --size WxH --eye x,y,z --target x,y,z --up x,y,z
 //                    --fovy F --near N --far F  IDS.bin DEPTH.pfm [IDS.bin DEPTH.pfm ...]
@@ -11,9 +11,9 @@
 //
 // The first prints one line per pair: "depth_error ids=... pixels=N max=E mean=M at=X,Y id=I got=G want=W"
 // (X, Y in window pixels, y up). Exit 2 on bad input.
-#include "../depth_reference.h"
-#include "core/image_io.h"
-#include "models/procedural.h"
+#include "tests/support/depth_reference.h"
+#include "host/image/image_io.h"
+#include "scenes/procedural.h"
 
 #include <cstdio>
 #include <cstdlib>

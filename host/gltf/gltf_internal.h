@@ -1,0 +1,117 @@
+// What the files of the glTF loader share, and nothing more: the loader is
+// split by job (file_gate.cpp, schema_check.cpp, image_decode.cpp,
+// accessors.cpp, model_walk.cpp) so that each file stays readable, and this
+// header is the seam between them. It is private to host/gltf/: the public
+// API is host/gltf/gltf_loader.h. Helpers used by a single file stay in that
+// file's anonymous namespace.
+#pragma once
+
+#include "host/gltf/gltf_loader.h"
+#include "host/gltf/uri_resolver.h"
+#include "host/scene/memory_budget.h"
+
+#include <tiny_gltf.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rast::gltf_detail {
+
+// Elements that accessors without a bufferView may add up to, relative to the
+// file: such data is not in the file (zeros plus sparse entries), so a few
+// hundred bytes could otherwise claim gigabytes.
+constexpr uint64_t kMinZeroElements = uint64_t(1) << 20;
+constexpr uint64_t kZeroElementsPerFileByte = 16;
+
+// What one load shares between tinygltf's callbacks and the model walk.
+struct LoadContext {
+  LoadContext(const std::string& path, const LoadOptions& o)
+      : resolver(path, o.allowExternalFiles), ledger(o.maxMemory ? o.maxMemory : defaultMemoryBudget()) {}
+  UriResolver resolver;
+  MemoryLedger ledger;
+  uint64_t zeroElementsLeft = kMinZeroElements;
+  // The first refusal (outside the folder, over the budget) met inside a
+  // tinygltf callback: tinygltf only warns when an image cannot be read.
+  std::string fatal;
+};
+
+// Makes a message printable on one line: control characters become spaces.
+std::string oneLine(std::string s);
+
+// ---------------------------------------------------------------- file_gate.cpp
+
+std::vector<unsigned char> readWholeFile(const std::string& path);
+
+// tinygltf's file callbacks for external buffers and images (`user` is the
+// LoadContext): every path goes through the scene's UriResolver.
+bool fileExistsForTinygltf(const std::string&, void*);
+std::string expandPathForTinygltf(const std::string& path, void*);
+bool readFileForTinygltf(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user);
+bool writeFileForTinygltf(std::string* err, const std::string&, const std::vector<unsigned char>&, void*);
+
+// Checks the GLB header and chunk layout; returns the container length (the
+// bytes that belong to the GLB) and where the JSON chunk lies.
+struct GlbLayout {
+  size_t length = 0, jsonOffset = 0, jsonLength = 0;
+};
+
+GlbLayout checkGlb(const std::vector<unsigned char>& b);
+
+// ---------------------------------------------------------------- schema_check.cpp
+
+// The JSON text of the file, its nesting depth checked first; throws Error for
+// invalid JSON or a root that is not an object.
+nlohmann::json parseJson(const char* s, size_t n);
+
+// What tinygltf leaves unchecked or reports unclearly, checked on the JSON.
+void checkDocument(const nlohmann::json& j, LoadContext& ctx);
+
+// ---------------------------------------------------------------- image_decode.cpp
+
+// tinygltf's image loader callback (`user` is the LoadContext).
+bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int reqWidth,
+                      int reqHeight, const unsigned char* bytes, int size, void* user);
+
+// Texture `texIndex` of the model as RGBA8, charged to `ledger`.
+Texture decodeTexture(const tinygltf::Model& m, int texIndex, MemoryLedger& ledger);
+
+// ---------------------------------------------------------------- accessors.cpp
+
+// Reads accessor `index` as `count` rows of `comps` floats (normalized integers
+// mapped to [0,1] or [-1,1] as the spec says), honouring byteStride and sparse
+// substitution. Every byte range is checked before anything is allocated or read.
+class AccessorReader {
+ public:
+  AccessorReader(const tinygltf::Model& m, LoadContext& ctx) : m_(m), ctx_(ctx) {}
+
+  std::vector<float> floats(int index, int comps, const char* what) const;
+  std::vector<uint32_t> indices(int index) const;
+  // The number of components of the accessor's type (-1 when the type is unknown).
+  int components(int index, const char* what) const;
+
+ private:
+  struct Span {
+    const unsigned char* data;
+    size_t stride, compSize;
+  };
+
+  const tinygltf::Accessor& accessor(int index, const char* what) const;
+  void checkCount(const tinygltf::Accessor& a, int index, const char* what) const;
+  static size_t compSizeOf(int componentType, const char* what);
+  // Bytes [offset, offset+len) of buffer view `bv`, checked against the buffer.
+  const unsigned char* viewBytes(int bv, size_t offset, size_t len, const char* what) const;
+  Span span(const tinygltf::Accessor& a, int comps, const char* what) const;
+  template <class F>
+  void applySparse(const tinygltf::Accessor& a, int comps, const char* what, F&& put) const;
+  static uint32_t uintAt(const unsigned char* p, int type);
+  static float component(const unsigned char* p, int type, bool normalized, const char* what);
+
+  const tinygltf::Model& m_;
+  LoadContext& ctx_;
+};
+
+}  // namespace rast::gltf_detail

@@ -1,0 +1,364 @@
+// The glTF loader's entry (loadGltf) and its walk of the parsed model into a
+// Scene. loadGltf runs the jobs in order: the file gate (file_gate.cpp), the
+// JSON checks (schema_check.cpp), tinygltf's parse with rast's file and image
+// callbacks, then the walk here: the default scene's node trees (without
+// recursion, since a file may chain millions of nodes; a cycle or a node with
+// two parents is an Error, not a hang or an exponential walk), each mesh's
+// primitives read through the AccessorReader (accessors.cpp) with every index
+// checked against the vertex count, strips, fans and loops turned into lists,
+// materials and textures (image_decode.cpp) loaded once however often used, and
+// what each primitive will hold charged to the memory budget before it is
+// built. Every failure, wherever it is met, leaves as one one-line Error that
+// names the file, never as a crash or a partial scene.
+#include "host/gltf/gltf_internal.h"
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+
+namespace rast {
+namespace gltf_detail {
+namespace {
+
+// ---------------------------------------------------------------- model walk
+
+bool allFinite(const std::vector<float>& v) {
+  return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+}
+
+glm::dmat4 nodeMatrix(const tinygltf::Node& n) {
+  if (n.matrix.size() == 16) return glm::make_mat4(n.matrix.data());
+  glm::dmat4 t(1.0), r(1.0), s(1.0);
+  if (n.translation.size() == 3) t = glm::translate(glm::dmat4(1.0), glm::make_vec3(n.translation.data()));
+  // glTF rotations are unit quaternions; files store them rounded, so normalise
+  // (as glref and OpenGL viewers do) rather than scale the mesh slightly.
+  if (n.rotation.size() == 4)
+    r = glm::mat4_cast(glm::normalize(glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2])));
+  if (n.scale.size() == 3) s = glm::scale(glm::dmat4(1.0), glm::make_vec3(n.scale.data()));
+  return t * r * s;
+}
+
+class Loader {
+ public:
+  Loader(const tinygltf::Model& m, Scene& s, LoadContext& ctx) : m_(m), s_(s), ctx_(ctx), acc_(m, ctx) {}
+
+  void run() {
+    std::vector<int> roots;
+    if (!m_.scenes.empty()) {
+      const int si = m_.defaultScene >= 0 ? m_.defaultScene : 0;
+      if (size_t(si) >= m_.scenes.size()) throw Error("default scene index " + std::to_string(si) + " out of range");
+      roots = m_.scenes[si].nodes;
+    } else {
+      // No scene: draw every root node (a node nobody lists as a child).
+      std::vector<char> isChild(m_.nodes.size(), 0);
+      for (const auto& n : m_.nodes)
+        for (int c : n.children)
+          if (c >= 0 && size_t(c) < m_.nodes.size()) isChild[c] = 1;
+      for (size_t i = 0; i < m_.nodes.size(); ++i)
+        if (!isChild[i]) roots.push_back(int(i));
+    }
+    state_.assign(m_.nodes.size(), 0);
+    for (int r : roots) traverse(r);
+    if (s_.draws.empty()) throw Error("the scene has no triangles, lines or points to draw");
+  }
+
+ private:
+  // Depth-first walk without recursion (a file may chain millions of nodes).
+  // glTF nodes form disjoint trees: a node met twice is a cycle (still on the
+  // path) or a second parent; both are errors (the latter could otherwise
+  // blow up exponentially).
+  void traverse(int root) {
+    struct Frame {
+      int node;
+      glm::dmat4 world;
+      size_t nextChild;
+    };
+    std::vector<Frame> stack;
+    auto enter = [&](int ni, const glm::dmat4& parent) {
+      if (ni < 0 || size_t(ni) >= m_.nodes.size()) throw Error("node index " + std::to_string(ni) + " out of range");
+      if (state_[ni] == 1) throw Error("node hierarchy has a cycle through node " + std::to_string(ni));
+      if (state_[ni] == 2)
+        throw Error("node " + std::to_string(ni) + " appears twice in the scene hierarchy (glTF nodes form disjoint trees)");
+      state_[ni] = 1;
+      const tinygltf::Node& n = m_.nodes[ni];
+      const glm::dmat4 world = parent * nodeMatrix(n);
+      for (int k = 0; k < 16; ++k)
+        if (!std::isfinite(glm::value_ptr(world)[k]))
+          throw Error("node " + std::to_string(ni) + " has a non-finite transform");
+      if (n.mesh >= 0) {
+        if (size_t(n.mesh) >= m_.meshes.size()) throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
+        for (uint32_t p : meshPrims(n.mesh)) s_.draws.push_back(Draw{p, world});
+      } else if (n.mesh < -1) {
+        throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
+      }
+      stack.push_back(Frame{ni, world, 0});
+    };
+    enter(root, glm::dmat4(1.0));
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      const std::vector<int>& children = m_.nodes[f.node].children;
+      if (f.nextChild < children.size()) {
+        const int c = children[f.nextChild++];
+        const glm::dmat4 world = f.world;  // enter() may reallocate the stack
+        enter(c, world);
+      } else {
+        state_[f.node] = 2;
+        stack.pop_back();
+      }
+    }
+  }
+
+  // Loads the primitives of a mesh once, however many nodes use it.
+  const std::vector<uint32_t>& meshPrims(int mi) {
+    auto it = meshCache_.find(mi);
+    if (it != meshCache_.end()) return it->second;
+    std::vector<uint32_t>& out = meshCache_[mi];
+    const tinygltf::Mesh& mesh = m_.meshes[mi];
+    for (const tinygltf::Primitive& p : mesh.primitives) {
+      const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+      if (mode < 0 || mode > 6) throw Error("primitive mode " + std::to_string(mode) + " is invalid");
+      out.push_back(loadPrim(p, mode));
+    }
+    return out;
+  }
+
+  uint32_t loadPrim(const tinygltf::Primitive& p, int mode) {
+    auto attr = [&](const char* name) {
+      auto it = p.attributes.find(name);
+      return it == p.attributes.end() ? -1 : it->second;
+    };
+    const int posA = attr("POSITION");
+    if (posA < 0) throw Error("mesh primitive has no POSITION attribute");
+    const std::vector<float> pf = acc_.floats(posA, 3, "POSITION");
+    chargePrim(p, mode, posA, attr("NORMAL") >= 0, attr("COLOR_0") >= 0);
+    const size_t nv = pf.size() / 3;
+    std::vector<float3> pos(nv);
+    for (size_t i = 0; i < nv; ++i) {
+      pos[i] = {pf[3 * i], pf[3 * i + 1], pf[3 * i + 2]};
+      if (!std::isfinite(pf[3 * i]) || !std::isfinite(pf[3 * i + 1]) || !std::isfinite(pf[3 * i + 2]))
+        throw Error("POSITION accessor " + std::to_string(posA) + " has non-finite values (vertex " + std::to_string(i) + ")");
+    }
+
+    std::vector<float3> nrm;
+    const int nA = attr("NORMAL");
+    if (nA >= 0) {
+      const std::vector<float> nf = acc_.floats(nA, 3, "NORMAL");
+      if (nf.size() != pf.size()) throw Error("NORMAL count differs from POSITION count");
+      if (!allFinite(nf)) throw Error("NORMAL accessor " + std::to_string(nA) + " has non-finite values");
+      nrm.resize(nv);
+      for (size_t i = 0; i < nv; ++i) nrm[i] = {nf[3 * i], nf[3 * i + 1], nf[3 * i + 2]};
+    }
+
+    int32_t matIndex = -1;
+    int texCoordSet = -1;
+    if (p.material >= 0) {
+      if (size_t(p.material) >= m_.materials.size()) throw Error("material index " + std::to_string(p.material) + " out of range");
+      matIndex = material(p.material, &texCoordSet);
+    } else if (p.material < -1) {
+      throw Error("material index out of range");
+    }
+
+    std::vector<float2> uv;
+    if (texCoordSet >= 0 && mode >= TINYGLTF_MODE_TRIANGLES) {  // points and lines are not textured
+      const int uvA = attr(("TEXCOORD_" + std::to_string(texCoordSet)).c_str());
+      if (uvA < 0) throw Error("material samples TEXCOORD_" + std::to_string(texCoordSet) + " which the primitive lacks");
+      const std::vector<float> uf = acc_.floats(uvA, 2, "TEXCOORD");
+      if (uf.size() / 2 != nv) throw Error("TEXCOORD count differs from POSITION count");
+      if (!allFinite(uf)) throw Error("TEXCOORD accessor " + std::to_string(uvA) + " has non-finite values");
+      uv.resize(nv);
+      for (size_t i = 0; i < nv; ++i) uv[i] = {uf[2 * i], uf[2 * i + 1]};
+    }
+
+    std::vector<float4> col;
+    const int cA = attr("COLOR_0");
+    if (cA >= 0) {
+      const int comps = acc_.components(cA, "COLOR_0");
+      if (comps != 3 && comps != 4) throw Error("COLOR_0 must be VEC3 or VEC4");
+      const std::vector<float> cf = acc_.floats(cA, comps, "COLOR_0");
+      if (cf.size() / comps != nv) throw Error("COLOR_0 count differs from POSITION count");
+      if (!allFinite(cf)) throw Error("COLOR_0 accessor " + std::to_string(cA) + " has non-finite values");
+      col.resize(nv);
+      for (size_t i = 0; i < nv; ++i)
+        col[i] = {cf[comps * i], cf[comps * i + 1], cf[comps * i + 2], comps == 4 ? cf[comps * i + 3] : 1.0f};
+    }
+
+    std::vector<uint32_t> seq;
+    if (p.indices >= 0) {
+      seq = acc_.indices(p.indices);
+    } else if (p.indices < -1) {
+      throw Error("indices accessor out of range");
+    } else {
+      seq.resize(nv);
+      for (size_t i = 0; i < nv; ++i) seq[i] = uint32_t(i);
+    }
+    for (uint32_t i : seq)
+      if (i >= nv)
+        throw Error("index " + std::to_string(i) + " out of range: the primitive has " + std::to_string(nv) + " vertices");
+
+    if (mode <= TINYGLTF_MODE_LINE_STRIP) {
+      // Points and lines (docs/points-lines.md): loops and strips become
+      // segment lists here (glTF 2.0 section 3.7.2.1), so the pipeline sees
+      // only points and independent segments. A loop closes with the segment
+      // from its last vertex back to its first; a LINES list of odd length
+      // loses its incomplete last segment; a strip or loop of one vertex draws
+      // nothing.
+      std::vector<uint32_t> seg, pts;
+      if (mode == TINYGLTF_MODE_POINTS) {
+        pts = seq;
+      } else if (mode == TINYGLTF_MODE_LINE) {
+        seg.assign(seq.begin(), seq.end() - seq.size() % 2);
+      } else {
+        for (size_t i = 0; i + 1 < seq.size(); ++i) {
+          seg.push_back(seq[i]);
+          seg.push_back(seq[i + 1]);
+        }
+        if (mode == TINYGLTF_MODE_LINE_LOOP && seq.size() >= 2) {
+          seg.push_back(seq.back());
+          seg.push_back(seq.front());
+        }
+      }
+      return addLinePrim(s_, pos, cA >= 0 ? &col : nullptr, seg, pts, matIndex);
+    }
+
+    // Strips and fans become lists (glTF 2.0 section 3.7.2.1). A list whose
+    // length is not a multiple of 3 loses its incomplete last triangle.
+    std::vector<uint32_t> idx;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      idx.assign(seq.begin(), seq.end() - seq.size() % 3);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      for (size_t i = 0; i + 2 < seq.size(); ++i) {
+        idx.push_back(seq[i]);
+        idx.push_back(seq[i + 1 + i % 2]);
+        idx.push_back(seq[i + 2 - i % 2]);
+      }
+    } else {
+      for (size_t i = 0; i + 2 < seq.size(); ++i) {
+        idx.push_back(seq[i + 1]);
+        idx.push_back(seq[i + 2]);
+        idx.push_back(seq[0]);
+      }
+    }
+    return addPrim(s_, pos, nA >= 0 ? &nrm : nullptr, texCoordSet >= 0 ? &uv : nullptr, cA >= 0 ? &col : nullptr, idx,
+                   matIndex);
+  }
+
+  // What the primitive will hold in the scene (positions, normals, texture
+  // coordinates, colours, 3 indices per triangle) is charged once its
+  // positions are read and checked, before the indices and the triangles
+  // (strips, flat normals multiply them); converting needs as much again.
+  void chargePrim(const tinygltf::Primitive& p, int mode, int posA, bool hasNormal, bool hasColor) {
+    if (size_t(posA) >= m_.accessors.size()) return;  // reported by the reader
+    const uint64_t nv = m_.accessors[posA].count;
+    uint64_t n = nv;
+    if (p.indices >= 0 && size_t(p.indices) < m_.accessors.size()) n = m_.accessors[p.indices].count;
+    const uint64_t tris = mode == TINYGLTF_MODE_TRIANGLES ? n / 3 : n > 2 ? n - 2 : 0;
+    // Without normals, flat shading gives every triangle its own 3 vertices.
+    const uint64_t stored = hasNormal ? nv : addSat(nv, mulSat(tris, 3));
+    const uint64_t perVertex = 12 + 12 + 8 + (hasColor ? 16 : 0);
+    const uint64_t bytes = addSat(mulSat(stored, perVertex), mulSat(tris, 12));
+    const std::string what = "mesh primitive (" + std::to_string(nv) + " vertices, " + std::to_string(tris) + " triangles)";
+    ctx_.ledger.check(what, mulSat(bytes, 2));
+    ctx_.ledger.charge(what, bytes);
+  }
+
+  int32_t material(int mi, int* texCoordSet) {
+    auto it = matCache_.find(mi);
+    if (it == matCache_.end()) {
+      const tinygltf::Material& gm = m_.materials[mi];
+      Material mat;
+      const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
+      if (f.size() == 4) mat.baseColorFactor = {float(f[0]), float(f[1]), float(f[2]), float(f[3])};
+      const auto& bt = gm.pbrMetallicRoughness.baseColorTexture;
+      int set = -1;
+      if (bt.index >= 0) {
+        mat.texture = texture(bt.index);
+        set = bt.texCoord;
+        if (set < 0) throw Error("material texCoord set is negative");
+      }
+      s_.materials.push_back(mat);
+      it = matCache_.emplace(mi, std::make_pair(int32_t(s_.materials.size() - 1), set)).first;
+    }
+    *texCoordSet = it->second.second;
+    return it->second.first;
+  }
+
+  // Decodes a texture once, however many materials use it.
+  int32_t texture(int ti) {
+    auto it = texCache_.find(ti);
+    if (it != texCache_.end()) return it->second;
+    s_.textures.push_back(decodeTexture(m_, ti, ctx_.ledger));
+    return texCache_[ti] = int32_t(s_.textures.size() - 1);
+  }
+
+  const tinygltf::Model& m_;
+  Scene& s_;
+  LoadContext& ctx_;
+  AccessorReader acc_;
+  std::vector<char> state_;  // per node: 0 not seen, 1 on the current path, 2 done
+  std::map<int, std::vector<uint32_t>> meshCache_;
+  std::map<int, std::pair<int32_t, int>> matCache_;
+  std::map<int, int32_t> texCache_;
+};
+
+Scene loadChecked(const std::string& path, const LoadOptions& options) {
+  const std::vector<unsigned char> bytes = readWholeFile(path);
+  LoadContext ctx(path, options);
+  ctx.ledger.charge("the file", bytes.size());
+  ctx.zeroElementsLeft = std::max(kMinZeroElements, mulSat(bytes.size(), kZeroElementsPerFileByte));
+
+  // Sniff the GLB magic instead of trusting the extension.
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  GlbLayout glb;
+  if (binary) glb = checkGlb(bytes);
+  const char* json = reinterpret_cast<const char*>(bytes.data()) + (binary ? glb.jsonOffset : 0);
+  const size_t jsonLength = binary ? glb.jsonLength : bytes.size();
+  checkDocument(parseJson(json, jsonLength), ctx);
+
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(loadImageChecked, &ctx);
+  loader.SetFsCallbacks({&fileExistsForTinygltf, &expandPathForTinygltf, &readFileForTinygltf, &writeFileForTinygltf, &ctx});
+  tinygltf::Model model;
+  std::string err, warn;
+  bool ok = false;
+  const std::string& baseDir = ctx.resolver.baseDir();
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(glb.length), baseDir)
+                : loader.LoadASCIIFromString(&model, &err, &warn, json, unsigned(jsonLength), baseDir);
+  } catch (const std::exception& e) {
+    // nlohmann::json throws on some type mismatches inside tinygltf.
+    throw Error("malformed glTF: " + oneLine(e.what()));
+  }
+  // A refused or over-budget external file or image, even where tinygltf only warns.
+  if (!ctx.fatal.empty()) throw Error(ctx.fatal);
+  if (!ok || !err.empty()) {
+    std::string why = oneLine(err.empty() ? warn : err);
+    throw Error(why.empty() ? std::string("not a valid glTF file") : why);
+  }
+  if (model.asset.version.rfind("2.", 0) != 0)
+    throw Error("glTF version '" + model.asset.version + "' is not 2.x");
+  Scene s;
+  s.name = path;
+  Loader(model, s, ctx).run();
+  s.validate();
+  return s;
+}
+
+}  // namespace
+}  // namespace gltf_detail
+
+Scene loadGltf(const std::string& path, const LoadOptions& options) {
+  try {
+    return gltf_detail::loadChecked(path, options);
+  } catch (const Error& e) {
+    const std::string what = gltf_detail::oneLine(e.what());
+    // Messages about the file as a whole already name it.
+    if (what.find("'" + path + "'") != std::string::npos) throw Error(what);
+    throw Error("'" + gltf_detail::oneLine(path) + "': " + what);
+  }
+}
+
+}  // namespace rast

@@ -1,0 +1,107 @@
+// Host-side scene: the geometry, materials and textures a frame needs, sized to
+// what the scene actually uses.
+//
+// Geometry is stored once per mesh primitive (object space, indices local to the
+// primitive); a Draw places a primitive in the world with a node transform. A
+// mesh used by several nodes is therefore stored once and drawn once per node,
+// as glTF (and ../shared/tools/glref) do.
+#pragma once
+
+#include "base/error.h"
+#include "base/vec.h"
+
+#include <glm/glm.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rast {
+
+// glTF sampler wrap modes (the GL enums, as stored in glTF files).
+enum Wrap : int32_t { WrapRepeat = 10497, WrapClamp = 33071, WrapMirror = 33648 };
+
+struct Texture {
+  int32_t width = 0, height = 0;
+  std::vector<uint32_t> rgba;  // sRGB-encoded RGBA8 (R in the low byte), first row = top of the image
+  int32_t wrapS = WrapRepeat, wrapT = WrapRepeat;
+};
+
+struct Material {
+  float4 baseColorFactor{1.0f, 1.0f, 1.0f, 1.0f};  // linear
+  int32_t texture = -1;                             // index into Scene::textures, -1: none
+};
+
+// A run of vertices and triangles sharing one material.
+struct MeshPrim {
+  uint32_t firstVertex = 0, vertexCount = 0;
+  uint32_t firstTri = 0, triCount = 0;
+  // glTF POINTS / LINES / LINE_LOOP / LINE_STRIP primitives (loops and strips
+  // expanded to segments): ranges of Scene::lineIndices (2 per segment) and
+  // Scene::pointIndices (1 per point). A primitive has one kind only.
+  uint32_t firstLine = 0, lineCount = 0;
+  uint32_t firstPoint = 0, pointCount = 0;
+  int32_t material = -1;  // -1: default material (white, untextured)
+};
+
+struct Draw {
+  uint32_t prim = 0;                  // index into Scene::prims
+  glm::dmat4 model = glm::dmat4(1.0);  // node-to-world transform
+};
+
+// A camera a scene asks to be seen from (procedural stress scenes); glTF
+// files are auto-framed instead, as glref does.
+struct SceneCamera {
+  glm::dvec3 eye{0, 0, 5}, target{0, 0, 0}, up{0, 1, 0};
+  double fovyDeg = 45.0, znear = 0.1, zfar = 100.0;
+};
+
+// How a scene asks to be shown when the command line does not say (the embedded
+// default scene, the stress scenes): glTF files keep rast's neutral defaults, so
+// that they compare pixel for pixel with glref.
+struct SceneLook {
+  std::optional<float4> background;  // linear
+  std::vector<float4> lights;        // directional: xyz towards the light, w intensity
+  int msaa = 1;                      // anti-aliasing for single images (`rast render`)
+};
+
+struct Scene {
+  std::string name;
+  std::optional<SceneCamera> camera;
+  SceneLook look;
+  // Vertex streams. normals always has one entry per vertex (flat normals are
+  // generated where a file has none); uvs and colors are empty when no
+  // primitive of the scene uses them, so unused attributes cost nothing.
+  std::vector<float3> positions;
+  std::vector<float3> normals;
+  std::vector<float2> uvs;
+  std::vector<float4> colors;
+  std::vector<uint32_t> indices;  // 3 per triangle, relative to the primitive's firstVertex
+  std::vector<uint32_t> lineIndices;   // 2 per line segment, relative to the primitive's firstVertex
+  std::vector<uint32_t> pointIndices;  // 1 per point, relative to the primitive's firstVertex
+  std::vector<MeshPrim> prims;
+  std::vector<Draw> draws;  // in scene traversal order: defines primitive ids
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+
+  uint32_t triangleCount() const;  // drawn triangles, each instance counted
+  uint64_t lineCount() const;      // drawn line segments
+  uint64_t pointCount() const;     // drawn points
+  void worldBounds(glm::dvec3& lo, glm::dvec3& hi) const;
+  // Checks internal consistency (indices in range, streams sized); throws Error.
+  void validate() const;
+};
+
+// Appends a primitive to the scene from per-vertex data; returns its index.
+// Used by the loader and the procedural scenes.
+uint32_t addPrim(Scene& s, const std::vector<float3>& pos, const std::vector<float3>* nrm,
+                 const std::vector<float2>* uv, const std::vector<float4>* col,
+                 const std::vector<uint32_t>& idx, int32_t material);
+
+// Appends a point or line primitive: `segments` holds 2 indices per segment,
+// `points` 1 per point (one of them empty). Normals are not needed (point and
+// line fragments are unlit) and are stored as +z.
+uint32_t addLinePrim(Scene& s, const std::vector<float3>& pos, const std::vector<float4>* col,
+                     const std::vector<uint32_t>& segments, const std::vector<uint32_t>& points, int32_t material);
+
+}  // namespace rast

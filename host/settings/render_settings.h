@@ -1,0 +1,99 @@
+// What a frame is asked to do: size, culling, shading, filtering, raster method
+// and the optional outputs (AOVs).
+#pragma once
+
+#include "host/settings/post_settings.h"
+#include "base/vec.h"
+
+#include <string>
+#include <vector>
+
+namespace rast {
+
+enum class CullMode { None, Back };
+enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel };
+enum class TexFilter { Nearest, Bilinear, Trilinear };
+enum class RasterMethod { Auto, Naive, VisBuffer, Binned };
+// How triangles are drawn (glPolygonMode): filled, as their edges, or as their corners.
+enum class PolygonMode { Fill, Line, Point };
+// Triangle edges drawn over the filled triangles: always on top, or depth-tested
+// against the fill with a small bias so that hidden edges stay hidden.
+enum class Wireframe { Off, On, Hidden };
+
+// Diagnostic modes whose colours are data (normals, texture coordinates, mip
+// level), stored as raw bytes rather than sRGB-encoded light.
+KOKKOS_INLINE_FUNCTION bool isRawShading(ShadingMode m) {
+  return m == ShadingMode::Normals || m == ShadingMode::TexCoord || m == ShadingMode::MipLevel;
+}
+
+struct DirectionalLight {
+  float3 direction{0.0f, 0.0f, 1.0f};  // world space, pointing towards the light
+  float intensity = 0.85f;
+  bool operator==(const DirectionalLight& o) const {
+    return direction.x == o.direction.x && direction.y == o.direction.y && direction.z == o.direction.z &&
+           intensity == o.intensity;
+  }
+  bool operator!=(const DirectionalLight& o) const { return !(*this == o); }
+};
+
+struct RenderSettings {
+  int width = 1920, height = 1080;
+  CullMode cull = CullMode::None;
+  ShadingMode shading = ShadingMode::Lambert;
+  TexFilter filter = TexFilter::Bilinear;
+  RasterMethod raster = RasterMethod::Auto;
+  // Empty: one headlight at the eye (per fragment, towards the eye), as glref shades.
+  std::vector<DirectionalLight> lights;
+  float ambient = 0.15f;
+  float specular = 0.35f, shininess = 32.0f;  // Blinn-Phong only
+  float4 background{0.0f, 0.0f, 0.0f, 1.0f};  // linear
+  bool wantDepth = false, wantPrimId = false, wantNormals = false;
+  // Anti-aliasing. msaa: samples per pixel for coverage and depth (1, 2, 4, 8),
+  // shaded once per pixel per covered triangle. ssaa: k x k shaded samples per
+  // pixel (1, 2, 4). reference: 16x16 stratified samples with bilinear
+  // texturing, the slow ground truth (see docs/quality.md).
+  int msaa = 1;
+  int ssaa = 1;
+  bool reference = false;
+  int referenceGrid = 16;    // samples per pixel side in reference mode
+  uint32_t referenceSeed = 1;
+  bool perspectiveCorrect = true;  // false: affine (screen-space) interpolation, for comparison
+  PostSettings post;  // exposure, tone mapping, bloom, SSAO, HDR output (core/post/)
+  // Points and lines (docs/points-lines.md): glTF point/line primitives, and
+  // triangles drawn as edges or corners.
+  PolygonMode polygon = PolygonMode::Fill;
+  Wireframe wireframe = Wireframe::Off;
+  float lineWidth = 1.0f;  // pixels, 1..64 (1: diamond-exit rule; wider: parallelogram)
+  float pointSize = 1.0f;  // pixels, 1..64 (square points)
+};
+
+// Every field's bytes, as one string: two settings give the same string
+// exactly when they are equal. Recorded frames are kept
+// per settings (backends/frame_graphs.h).
+std::string settingsKey(const RenderSettings& rs);
+
+PolygonMode parsePolygon(const std::string& s);
+Wireframe parseWireframe(const std::string& s);
+const char* toString(PolygonMode m);
+const char* toString(Wireframe w);
+
+// "none", "ssaa2", "ssaa4", "msaa2", "msaa4", "msaa8" -> rs.msaa / rs.ssaa.
+void parseAA(const std::string& s, RenderSettings& rs);
+std::string aaName(const RenderSettings& rs);
+
+const char* toString(ShadingMode m);
+const char* toString(RasterMethod m);
+const char* toString(TexFilter f);
+const char* toString(CullMode c);
+// Parsers for the command line; throw Error on unknown names.
+ShadingMode parseShading(const std::string& s);
+RasterMethod parseRaster(const std::string& s);
+TexFilter parseFilter(const std::string& s);
+CullMode parseCull(const std::string& s);
+std::vector<RasterMethod> allRasterMethods();  // every concrete method (not Auto)
+
+// Splits "1,2.5,-3" into finite numbers; false (out unspecified) when an item is
+// empty, not a number or not finite. Callers word their own error for their flag.
+bool parseFiniteList(const std::string& s, std::vector<double>& out);
+
+}  // namespace rast

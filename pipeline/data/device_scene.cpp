@@ -1,0 +1,156 @@
+#include "pipeline/data/device_scene.h"
+
+#include "base/color.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rast {
+namespace {
+
+template <class T>
+DView<T> uploadVec(const char* label, const std::vector<T>& v) {
+  DView<T> d = allocUninit<T>(label, v.size());
+  if (!v.empty()) {
+    Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(), v.size());
+    Kokkos::deep_copy(d, h);
+  }
+  return d;
+}
+
+}  // namespace
+
+DeviceScene DeviceScene::upload(const Scene& s) {
+  s.validate();
+  DeviceScene d;
+  d.positions = uploadVec("scene.positions", s.positions);
+  d.normals = uploadVec("scene.normals", s.normals);
+  d.indices = uploadVec("scene.indices", s.indices);
+
+  // Only the attribute streams that some drawn primitive uses travel.
+  bool usesTexture = false;
+  for (const Material& m : s.materials) usesTexture |= m.texture >= 0;
+  d.hasUV = usesTexture && !s.uvs.empty();
+  d.hasColor = !s.colors.empty();
+  d.hasTextures = usesTexture;
+  if (d.hasUV) d.uvs = uploadVec("scene.uvs", s.uvs);
+  if (d.hasColor) d.colors = uploadVec("scene.colors", s.colors);
+
+  std::vector<DrawGPU> draws;
+  std::vector<uint32_t> triStart, vertStart;
+  uint64_t tri = 0, vert = 0;
+  for (const Draw& dr : s.draws) {
+    const MeshPrim& p = s.prims[dr.prim];
+    DrawGPU g{};
+    g.srcVertex = p.firstVertex;
+    g.vertexCount = p.vertexCount;
+    g.srcTri = p.firstTri;
+    g.triCount = p.triCount;
+    g.dstVertex = uint32_t(vert);
+    g.dstTri = uint32_t(tri);
+    g.material = p.material;
+    g.mirrored = glm::determinant(dr.model) < 0.0 ? 1 : 0;
+    for (int k = 0; k < 16; ++k) g.model.m[k] = (&dr.model[0][0])[k];
+    for (int k = 0; k < 16; ++k) g.modelF.m[k] = float(g.model.m[k]);
+    const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(dr.model));
+    for (int k = 0; k < 9; ++k) g.normalMatrix.m[k] = float((&nm[0][0])[k]);
+    d.hostModels.push_back(g.model);
+    triStart.push_back(g.dstTri);
+    vertStart.push_back(g.dstVertex);
+    draws.push_back(g);
+    tri += p.triCount;
+    vert += p.vertexCount;
+    if (tri >= 0xffffffffull || vert >= 0xffffffffull) throw Error("scene too large: more than 2^32 drawn triangles or vertices");
+  }
+  d.numDraws = uint32_t(draws.size());
+  if (!d.hostMvps()) d.hostModels = std::vector<mat4d>();  // the vertex stage computes the MVPs
+  d.numTris = uint32_t(tri);
+  d.numVerts = uint32_t(vert);
+  d.draws = uploadVec("scene.draws", draws);
+  d.drawTriStart = uploadVec("scene.drawTriStart", triStart);
+  d.drawVertStart = uploadVec("scene.drawVertStart", vertStart);
+  if (drawTables(draws.size())) {
+    std::vector<DrawIndex> triDraw(d.numTris), vertDraw(d.numVerts);
+    for (size_t k = 0; k < draws.size(); ++k) {
+      std::fill_n(triDraw.begin() + draws[k].dstTri, draws[k].triCount, DrawIndex(k));
+      std::fill_n(vertDraw.begin() + draws[k].dstVertex, draws[k].vertexCount, DrawIndex(k));
+    }
+    d.triDraw = uploadVec("scene.triDraw", triDraw);
+    d.vertDraw = uploadVec("scene.vertDraw", vertDraw);
+  }
+  d.uploadLinesAndPoints(s);
+
+  std::vector<MaterialGPU> mats;
+  for (const Material& m : s.materials) mats.push_back({m.baseColorFactor, m.texture});
+  d.materials = uploadVec("scene.materials", mats);
+
+  if (usesTexture) d.uploadTextures(s.textures, false);
+  d.srgbToLinear = uploadVec("scene.srgbToLinear", srgbDecodeTable());
+  d.srgbEncodePacked = uploadVec("scene.srgbEncodePacked", rast::srgbEncodePacked());
+  return d;
+}
+
+namespace {
+
+// The next level: each texel the average of its (up to) 2x2 parents, colour in
+// linear light, alpha as stored.
+std::vector<uint32_t> halve(const std::vector<uint32_t>& src, int w, int h, int& nw, int& nh) {
+  nw = w > 1 ? w / 2 : 1;
+  nh = h > 1 ? h / 2 : 1;
+  std::vector<uint32_t> out(size_t(nw) * nh);
+  for (int y = 0; y < nh; ++y)
+    for (int x = 0; x < nw; ++x) {
+      double acc[4] = {0, 0, 0, 0};
+      int n = 0;
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const int sx = std::min(2 * x + dx, w - 1), sy = std::min(2 * y + dy, h - 1);
+          const uint32_t c = src[size_t(sy) * w + sx];
+          for (int k = 0; k < 3; ++k) acc[k] += srgbDecode(((c >> (8 * k)) & 0xff) / 255.0);
+          acc[3] += (c >> 24) / 255.0;
+          ++n;
+        }
+      out[size_t(y) * nw + x] = srgbEncodeByte(acc[0] / n) | srgbEncodeByte(acc[1] / n) << 8 | srgbEncodeByte(acc[2] / n) << 16 |
+                                uint32_t(acc[3] / n * 255.0 + 0.5) << 24;
+    }
+  return out;
+}
+
+}  // namespace
+
+void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps) {
+  std::vector<TextureGPU> tex;
+  std::vector<uint32_t> texels;
+  for (const Texture& t : list) {
+    TextureGPU g{uint32_t(texels.size()), t.width, t.height, t.wrapS, t.wrapT, 1};
+    texels.insert(texels.end(), t.rgba.begin(), t.rgba.end());
+    if (mipmaps) {
+      std::vector<uint32_t> level = t.rgba;
+      int w = t.width, h = t.height;
+      while (w > 1 || h > 1) {
+        int nw, nh;
+        level = halve(level, w, h, nw, nh);
+        texels.insert(texels.end(), level.begin(), level.end());
+        w = nw;
+        h = nh;
+        ++g.levels;
+      }
+    }
+    tex.push_back(g);
+  }
+  textures = uploadVec("scene.textures", tex);
+  this->texels = uploadVec("scene.texels", texels);
+  hasMipmaps = mipmaps;
+}
+
+size_t DeviceScene::bytes() const {
+  return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
+         viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
+         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
+         viewBytes(points);
+}
+
+}  // namespace rast

@@ -1,0 +1,81 @@
+// The scene uploaded to the device once, sized to what it uses: attribute
+// streams a scene does not have are not allocated.
+#pragma once
+
+#include "pipeline/data/device.h"
+#include "pipeline/data/gpu_types.h"
+#include "host/scene/scene.h"
+
+#include <cstdint>
+#include <limits>
+
+namespace rast {
+
+// An entry of the draw tables (DeviceScene::triDraw, vertDraw): a draw index.
+using DrawIndex = uint16_t;
+
+struct DeviceScene {
+  DView<float3> positions;  // object space, per source vertex
+  DView<float3> normals;
+  DView<float2> uvs;      // empty when no material samples a texture
+  DView<float4> colors;   // empty when no primitive has COLOR_0
+  DView<uint32_t> indices;  // 3 per source triangle, relative to the primitive's first vertex
+  DView<DrawGPU> draws;
+  DView<uint32_t> drawTriStart;   // dstTri of each draw, for triangle -> draw lookup
+  DView<uint32_t> drawVertStart;  // dstVertex of each draw, for vertex -> draw lookup
+  // The same lookups as tables, for scenes of many draws (kDrawTableMinDraws);
+  // empty otherwise. drawOf() takes either.
+  DView<DrawIndex> triDraw, vertDraw;
+  DView<MaterialGPU> materials;
+  DView<TextureGPU> textures;
+  DView<uint32_t> texels;  // all textures, sRGB RGBA8
+  DView<float> srgbToLinear;  // 256-entry decode table
+  DView<uint32_t> srgbEncodePacked;  // sRGB encoder, one entry per bucket (srgbEncodePacked(), packSrgb8Packed)
+
+  // Drawn line segments, then drawn points, in scene traversal order
+  // (primitive ids after the triangles'; docs/points-lines.md).
+  DView<LineGPU> lines, points;
+  uint32_t numLines = 0, numPoints = 0;
+
+  uint32_t numDraws = 0, numTris = 0, numVerts = 0;  // drawn counts
+  std::vector<mat4d> hostModels;  // draws' model matrices, kept only when hostMvps()
+  // Whether the host computes the draws' MVPs and uploads them with the
+  // camera (Renderer::enqueue), or the vertex stage computes them.
+  bool hostMvps() const { return numDraws <= kHostMatricesMaxDraws; }
+  bool hasUV = false, hasColor = false, hasTextures = false;
+
+  static DeviceScene upload(const Scene& scene);
+  void uploadLinesAndPoints(const Scene& scene);  // core/device_lines.cpp
+  // (Re)uploads the textures, with full mipmap pyramids when asked (built on
+  // the host with sRGB-correct 2x2 averaging). Trilinear filtering needs them;
+  // other filters do not pay for them.
+  void uploadTextures(const std::vector<Texture>& textures, bool mipmaps);
+  bool hasMipmaps = false;
+  size_t bytes() const;
+};
+
+// Largest i with starts(i) <= key; starts is ascending with starts(0) == 0.
+// lo: a range known to start at or before key (0 when nothing is known).
+KOKKOS_INLINE_FUNCTION uint32_t findRange(const DView<uint32_t>& starts, uint32_t n, uint32_t key, uint32_t lo = 0) {
+  uint32_t hi = n;  // invariant: starts(lo) <= key < starts(hi) (hi == n: +inf)
+  while (hi - lo > 1) {
+    const uint32_t mid = lo + (hi - lo) / 2;
+    if (starts(mid) <= key) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+// The draw of drawn triangle or vertex `key`: from its table when the scene
+// has one (DeviceScene::triDraw, vertDraw), else findRange over the starts.
+// The same draw either way (an empty draw owns no key).
+KOKKOS_INLINE_FUNCTION uint32_t drawOf(const DView<DrawIndex>& table, const DView<uint32_t>& starts, uint32_t n,
+                                       uint32_t key) {
+  if (n <= 1) return 0;  // findRange's answer too; one draw tests for no table
+  return table.data() ? uint32_t(table(key)) : findRange(starts, n, key);
+}
+// Whether a scene of `draws` draws gets the tables: more than
+// kDrawTableMinDraws, and every draw's index fits an entry.
+inline bool drawTables(uint64_t draws) {
+  return draws > kDrawTableMinDraws && draws <= uint64_t(std::numeric_limits<DrawIndex>::max()) + 1;
+}
+
+}  // namespace rast

@@ -1,0 +1,16 @@
+// testHooks(): one instance per process (test_hooks.h says why they exist).
+#include "pipeline/data/test_hooks.h"
+
+namespace rast {
+
+TestHooks& testHooks() {
+  static TestHooks hooks;
+  return hooks;
+}
+
+std::string TestHooks::key() const {
+  const int32_t v[] = {gpuSetupOnHostTeam, hostSetupStaged, hostSetupStream, generalShade ? 1 : 0, rowLanes, shadeRun};
+  return std::string(reinterpret_cast<const char*>(v), sizeof v);
+}
+
+}  // namespace rast

@@ -1,0 +1,48 @@
+// Every switch that tests use to force one of the pipeline's internal paths,
+// in one place. Each forces a path the renderer would otherwise choose by
+// itself (by backend, scene or frame statistics), so that tests can compare
+// two paths that must give the same bytes on one backend; none of them may
+// change an image. Production code never sets them. Values are read on the
+// host when a frame is planned or launched; the frame plan's key
+// (pipeline/frame/frame_plan.h) includes them, so recorded frames never
+// replay across a change.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace rast {
+
+struct TestHooks {
+  // > 0: a host backend sets up primitives as a GPU does (primitive_setup.cpp's
+  // WriteChunks: a team per chunk of this many threads; the look-back for few
+  // chunks, a count pass for more), so that the GPU's setup runs, and can hang
+  // or fail, on the CPU too. 0: the host's own. GPUs ignore it.
+  int gpuSetupOnHostTeam = 0;
+  // The host's setup (SetupChunksHost) stages at most this many raster
+  // triangles a chunk before it writes the rest directly (0: as many as fit),
+  // and copies them with streaming stores (> 0), plain ones (< 0) or as the
+  // scene's size decides (0). GPUs ignore them.
+  int hostSetupStaged = 0;
+  int hostSetupStream = 0;
+  // true: the per-pixel shade kernel takes its general form for every frame,
+  // including lit frames that normally take the kernel compiled for lit
+  // shading alone (shade_fragment.h, Shade::litOnly).
+  bool generalShade = false;
+  // The visbuffer raster's layout: 1 a block's rows on lanes (RasterBlockRows)
+  // on any backend, -1 never, 0 as the frame plan decides.
+  int rowLanes = 0;
+  // Pixels per shading work item along a row; 0: the backend's kShadeRun
+  // (backends/tuning.h). 1 on a CPU forces the per-pixel kernel (the span
+  // kernel needs runs).
+  int shadeRun = 0;
+
+  // The values as bytes, for the frame plan's key.
+  std::string key() const;
+};
+
+// The process's hooks (tests set fields and restore them; see
+// tests/support/hooks_guard.h).
+TestHooks& testHooks();
+
+}  // namespace rast

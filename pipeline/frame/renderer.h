@@ -1,0 +1,113 @@
+// The renderer: owns the device scene and the frame buffers, plans each frame
+// once (frame_plan.h) and runs its stages in order: vertex, setup, raster,
+// shade, post.
+#pragma once
+
+#include "host/scene/camera.h"
+#include "pipeline/data/device_scene.h"
+#include "pipeline/data/frame_buffers.h"
+#include "pipeline/frame/frame_plan.h"
+#include "host/settings/render_settings.h"
+
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rast {
+
+class StageTimer;
+class FrameGraphs;
+
+struct FrameStats {
+  uint32_t trianglesIn = 0;   // drawn triangles submitted
+  uint32_t rasterTris = 0;    // after clipping, culling and snapping
+  uint32_t rasterWork = 0;    // work items of the raster method
+  RasterMethod method = RasterMethod::VisBuffer;
+  bool rowLanes = false;      // the visbuffer raster ran a block's rows on lanes (RasterBlockRows)
+  int attempts = 1;           // > 1 when buffers had to grow and the frame was redone
+  size_t deviceBytes = 0;     // scene + frame buffers
+  size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)
+  size_t filmBytes = 0;       // the float film and post buffers (0 when no float path ran)
+};
+
+class Renderer {
+ public:
+  // memoryBudget: bytes the renderer may hold (scene on the device and frame
+  // buffers), checked before each allocation; 0: defaultMemoryBudget().
+  explicit Renderer(const Scene& scene, uint64_t memoryBudget = 0);
+  ~Renderer();
+
+  // Renders one frame and waits for it. If the frame needed larger buffers
+  // than it had, they grow and the frame is rendered again (never capped).
+  FrameStats render(const Camera& cam, const RenderSettings& rs);
+
+  // Enqueues one frame with no host-device traffic (for benchmarks); call
+  // lastFrameFit() afterwards to check that no buffer overflowed.
+  void enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer = nullptr);
+
+  // Reads the device counters of the last frame (a small copy that waits for
+  // it); grows the buffers for next time and returns false if it overflowed.
+  bool lastFrameFit(FrameStats* stats = nullptr);
+
+  // Results of the last frame. Colour is sRGB RGBA8 (R in the low byte) with the
+  // top row first, as image files store it; depth, ids and normals keep
+  // OpenGL's bottom-up row order.
+  std::vector<uint32_t> colorTopDown() const;
+  // The same colour buffer where the pipeline keeps it, with no copy: sRGB
+  // RGBA8, bottom row first, width x height of the last frame, in the
+  // execution space's memory (device memory when colorOnDevice()). Valid until
+  // the next frame. Lets a display copy device to device (rast-viewer's
+  // graphics interop) or upload straight from host memory.
+  const uint32_t* colorData() const { return frame_.color.data(); }
+  static constexpr bool colorOnDevice() { return kOnDevice; }
+  std::vector<float> depthBottomUp() const;
+  std::vector<uint32_t> primIdsBottomUp() const;
+  std::vector<float3> normalsBottomUp() const;
+  // The float film after the post chain (linear; only when the frame used it:
+  // RenderSettings::post.needsFloat(), or supersampling).
+  std::vector<float4> filmBottomUp() const;
+  // SSAO's input and output of the last frame with SSAO on: view-space normal
+  // and depth per pixel, and the (blurred) ambient occlusion.
+  std::vector<float4> geometryBottomUp() const;
+  std::vector<float> aoBottomUp() const;
+
+  const DeviceScene& scene() const { return scene_; }
+  // The method a frame with these settings uses (auto: chosen from the
+  // previous frame's statistics; see chooseAuto in renderer.cpp).
+  RasterMethod resolveMethod(const RenderSettings& rs) const;
+  size_t deviceBytes() const { return scene_.bytes() + frame_.bytes(); }
+
+  // Called after each pass of a supersampled frame with (passes done, total):
+  // lets a command line show progress on long reference renders. Empty: silent.
+  std::function<void(int, int)> onPass;
+
+ private:
+  void prepare(const RenderSettings& rs);
+  FrameStats renderSupersampled(const Camera& cam, const RenderSettings& rs);
+  void runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer);
+  // The frame's kernels after the camera's upload: all that a recorded frame replays.
+  void launchFrame(const FramePlan& plan, StageTimer* timer);
+  // Throws a one-line Error when the frame buffers for rs would not fit the budget.
+  void checkFrameBudget(const RenderSettings& rs) const;
+
+  uint64_t budget_;  // before scene_: the upload is checked against it
+  uint64_t perVertexBytes_ = 0;  // vertex-stage buffers, per drawn vertex (worst case)
+  DeviceScene scene_;
+  std::vector<Texture> hostTextures_;  // kept to build mipmaps when first needed
+  FrameBuffers frame_;
+  DView<LightGPU> lights_;
+  std::vector<DirectionalLight> uploadedLights_;
+  FramePlan plan_;  // the last frame's decisions
+  uint32_t autoFrames_ = 0;
+  uint32_t frameNumber_ = 0;  // FrameUniforms::frame of the last frame
+  std::vector<mat4f> upload_;  // the frame's upload (FrameUniforms, draws' MVPs), host side
+  bool supersampling_ = false;  // inside renderSupersampled: passes shade to the film, no post chain
+  std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
+
+  AutoStats autoStats_;  // what `auto` decides from (frame_plan.h)
+};
+
+}  // namespace rast

@@ -1,0 +1,164 @@
+// Vertex stage: per-draw model-view-projection matrices, then every drawn vertex
+// to clip space (and to world space when the shading needs positions/normals).
+// Each vertex is also snapped to window space here, once, rather than once per
+// triangle that uses it (about six in a closed mesh) in the setup.
+#include "backends/cpu_clones.h"
+#include "pipeline/rules/raster_rules.h"
+#include "pipeline/geometry/geometry.h"
+
+#include <type_traits>
+
+namespace rast {
+namespace {
+
+// The view-projection comes from device memory (the frame's uploaded
+// uniforms), so that this launch is the same whatever the camera.
+struct DrawMatrices {
+  DView<DrawGPU> draws;
+  DView<mat4f> mvp;
+  DView<FrameUniforms> frame;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t d) const { mvp(d) = drawMvp(frame(0).viewProj, draws(d).model); }
+};
+
+template <bool kWorld>
+struct TransformVertices {
+  DView<DrawGPU> draws;
+  DView<uint32_t> drawVertStart;
+  DView<DrawIndex> vertDraw;  // DeviceScene::vertDraw (empty: search drawVertStart)
+  uint32_t numDraws;
+  DView<mat4f> mvp;
+  DView<float3> positions, normals;
+  DView<float4> clip;
+  DView<SnapVert> snap;
+  DView<float3> worldPos, worldNormal;
+  Viewport vp;
+  float gx, gy;
+  DView<FrameUniforms> frame;
+  uint32_t* uploadSeen;  // FrameBuffers::uploadSeen (GPUs)
+
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t v) const {
+    // The upload this frame read is out of the staging buffer (the copy came
+    // before this kernel): the host may refill it (backends/backend_cuda.cpp).
+    if (v == 0 && uploadSeen) *uploadSeen = frame(0).frame;
+    const uint32_t d = drawOf(vertDraw, drawVertStart, numDraws, v);
+    const DrawGPU& dr = draws(d);
+    const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
+    const float3 p = positions(src);
+    const float4 c = mul(mvp(d), p);
+    clip(v) = c;
+    snap(v) = snapOrFlag(c, vp, gx, gy);
+    if (kWorld) {
+      worldPos(v) = mulPoint(dr.modelF, p);
+      worldNormal(v) = normalize(mul(dr.normalMatrix, normals(src)));
+    }
+  }
+};
+
+}  // namespace
+
+// One draw's run of vertices [v, end) on a host backend: the arithmetic of
+// TransformVertices::operator(), compiled also for AVX-512 and AVX2 and picked
+// at load time (backends/cpu_clones.h). The baseline x86-64 build has no
+// rounding instruction, and the four floors of each vertex's snapping
+// (fineCoord) made the stage 8.4 ms for tiny's 500,000 vertices (2 cores);
+// with the wide variants it took 4.25. Same IEEE operations (no
+// contraction), so the same bits. Outside the anonymous namespace: a GPU
+// build, which never calls it, would warn of an unused internal function.
+struct VertexRun {
+  const float3* positions;
+  const float3* normals;
+  float4* clip;
+  SnapVert* snap;
+  float3* worldPos;    // null: no world-space outputs
+  float3* worldNormal;
+  mat4f mvp, model;
+  mat3f normalMatrix;
+  Viewport vp;
+  float gx, gy;
+};
+RAST_CPU_CLONES void transformRun(const VertexRun& r, uint32_t src0, uint32_t v0, uint32_t end) {
+  for (uint32_t v = v0, src = src0; v < end; ++v, ++src) {
+    const float3 p = r.positions[src];
+    const float4 c = mul(r.mvp, p);
+    r.clip[v] = c;
+    r.snap[v] = snapOrFlag(c, r.vp, r.gx, r.gy);
+  }
+  if (!r.worldPos) return;
+  for (uint32_t v = v0, src = src0; v < end; ++v, ++src) {
+    r.worldPos[v] = mulPoint(r.model, r.positions[src]);
+    r.worldNormal[v] = normalize(mul(r.normalMatrix, r.normals[src]));
+  }
+}
+
+namespace {
+
+// The host backends' vertex stage: a work item takes kHostVertexChunk
+// consecutive vertices and walks the draws they belong to, so that the draw
+// lookup (a binary search) and its matrices are fetched once per draw and
+// chunk rather than once per vertex.
+constexpr uint32_t kHostVertexChunk = 1024;
+template <bool kWorld>
+struct TransformVerticesHost {
+  TransformVertices<kWorld> t;
+  uint32_t numVerts;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
+    const uint32_t v0 = chunk * kHostVertexChunk;
+    const uint32_t v1 = v0 + kHostVertexChunk < numVerts ? v0 + kHostVertexChunk : numVerts;
+    uint32_t d = findRange(t.drawVertStart, t.numDraws, v0);  // the draw of v0; later draws in order
+    for (uint32_t v = v0; v < v1; ++d) {
+      const uint32_t next = d + 1 < t.numDraws ? t.drawVertStart(d + 1) : v1;
+      const uint32_t end = next < v1 ? next : v1;
+      if (v >= end) continue;  // a draw without vertices
+      const DrawGPU& dr = t.draws(d);
+      const VertexRun r{t.positions.data(), t.normals.data(), t.clip.data(), t.snap.data(),
+                        kWorld ? t.worldPos.data() : nullptr, kWorld ? t.worldNormal.data() : nullptr,
+                        t.mvp(d), dr.modelF, dr.normalMatrix, t.vp, t.gx, t.gy};
+      transformRun(r, dr.srcVertex + (v - dr.dstVertex), v, end);
+      v = end;
+    }
+  }
+};
+
+// Launches the vertex transform: per vertex on GPUs, per chunk of vertices on
+// host backends (not built for GPUs).
+template <bool kHost, bool kWorld>
+void launchTransform(const TransformVertices<kWorld>& t, uint32_t numVerts) {
+  if constexpr (kHost) {
+    using Host = std::conditional_t<kHost, TransformVerticesHost<kWorld>, void>;  // dependent: not built for GPUs
+    const uint32_t chunks = (numVerts + kHostVertexChunk - 1) / kHostVertexChunk;
+    Kokkos::parallel_for("rast::vertex::transform", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
+                         Host{t, numVerts});
+  } else {
+    Kokkos::parallel_for("rast::vertex::transform",
+                         lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, numVerts)), t);
+  }
+}
+
+}  // namespace
+
+void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld) {
+  if (!s.hostMvps())  // else uploaded with the camera (Renderer::enqueue)
+    Kokkos::parallel_for("rast::vertex::draw_matrices",
+                         lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, s.numDraws)),
+                         DrawMatrices{s.draws, f.mvp, f.uniforms});
+  ensureCapacity(f.clip, "frame.clip", s.numVerts);
+  ensureCapacity(f.snap, "frame.snap", s.numVerts);
+  const float gx = guardBand(f.vp.width), gy = guardBand(f.vp.height);
+  if (needWorld) {
+    ensureCapacity(f.worldPos, "frame.worldPos", s.numVerts);
+    ensureCapacity(f.worldNormal, "frame.worldNormal", s.numVerts);
+    launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
+                                                        s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy,
+                                                        f.uniforms, f.uploadSeen},
+                                s.numVerts);
+  } else {
+    launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
+                                                         s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy,
+                                                         f.uniforms, f.uploadSeen},
+                                s.numVerts);
+  }
+}
+
+}  // namespace rast

@@ -1,0 +1,41 @@
+// The shade stage's front: the parameters a frame's shading reads (ShadeParams,
+// filled once per frame by the frame plan) and the per-pixel shading kernel
+// (rast::shade, rast::shade::lit) that every backend runs. The CPU's span and
+// fused tile shading build on the same fragment maths in pipeline/cpu/.
+#pragma once
+
+#include "pipeline/data/frame_buffers.h"
+#include "host/settings/render_settings.h"
+
+namespace rast {
+
+struct LightGPU {
+  float3 direction;  // normalised, towards the light
+  float intensity;
+};
+
+struct ShadeParams {
+  ShadingMode mode;
+  TexFilter filter;
+  DView<FrameUniforms> frame;  // the camera's eye, view, near and far: FrameBuffers::uniforms
+  float ambient, specular, shininess;
+  float4 background;
+  uint32_t backgroundPacked;  // sRGB RGBA8, encoded once on the host
+  int32_t headlight;  // 1: one light at the eye, per fragment
+  int32_t wantDepth, wantPrimId, wantNormals;
+  int32_t perspective;  // 0: affine interpolation (for comparison only)
+  // The float film (pipeline/post/): shading writes linear colour to f.post.hdr
+  // instead of packing RGBA8, and with wantGeom view-space normal and depth
+  // to f.post.geom for every pixel.
+  int32_t floatOut, wantGeom;
+  float4 backgroundFilm;  // the background as the film holds it
+  int32_t shadeRun;       // pixels per shading work item along a row; 0: the backend's kShadeRun
+  // Only the visbuffer or naive raster wrote keys this frame, one sample per pixel:
+  // an 8x8 block whose FrameBuffers::blockFrame is not this frame's holds
+  // only clear keys, and the GPU's shading skips reading them.
+  int32_t blockFrames;
+};
+
+void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
+
+}  // namespace rast

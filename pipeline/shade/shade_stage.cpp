@@ -1,0 +1,130 @@
+// The shade stage: colour, ids, depth (and the float film's inputs) per pixel
+// from the visibility buffer, on every backend. The fragment shader is in
+// shade_fragment.h; makeShade fills its parameters and allocates its outputs
+// for this kernel and for the CPU's span and fused tile shading
+// (pipeline/cpu/), which the frame plan chooses instead on host backends.
+#include "pipeline/shade/shade_fragment.h"
+#include "pipeline/rules/visbuffer_blocks.h"
+#include "pipeline/data/test_hooks.h"
+
+namespace rast {
+namespace {
+
+using shading::Shade;
+
+// Eye-space depth range of the covered pixels, reduced on the device (depth mode).
+struct DepthRange {
+  DView<uint64_t> vis;
+  DView<FrameUniforms> frame;
+  int samples;
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t i, Kokkos::MinMaxScalar<float>& v) const {
+    const uint64_t key = vis(i * samples);
+    if ((key & 0xffffffffu) == 0) return;
+    const float znear = frame(0).camera.znear, zfar = frame(0).camera.zfar;
+    const float zn = 2.0f * bitsFloat(uint32_t(key >> 32)) - 1.0f;
+    const float ze = 2.0f * znear * zfar / ((zfar + znear) - zn * (zfar - znear));
+    v.min_val = ze < v.min_val ? ze : v.min_val;
+    v.max_val = ze > v.max_val ? ze : v.max_val;
+  }
+};
+
+// The per-pixel kernel, which clears the visibility buffer behind it
+// (FrameBuffers::visClear).
+void launchShade(Shade k, const Range& items) {
+  k.clearVis = 1;
+  // On a GPU the fragment shader keeps one triangle's data (TriFrag) live:
+  // unbounded, ptxas gives it 166 registers a thread, too few warps to hide the
+  // loads of a latency-bound kernel. kShadeLaunchBounds caps that (host
+  // backends ignore launch bounds).
+  using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;
+  // Lit frames (the usual ones) take a kernel compiled without the other
+  // modes' code: a third of the general kernel's instructions (1,617 against
+  // 5,488 in its SASS), with fewer branches a pixel; the H100's frames were
+  // 1-4% faster (milktruck_cab 0.1626 -> 0.1566 ms, engine 0.1286 -> 0.1246;
+  // docs/journal/performance-2026-11-*.md). The same arithmetic: the same bytes. It is built
+  // twice, with and without vertex colours, so that a scene without them
+  // (every benchmark model) keeps no registers for them.
+  const bool lit = k.interleaved && k.litOnly() && !testHooks().generalShade;
+  if (lit && k.hasColor)
+    Kokkos::parallel_for("rast::shade::lit", lightweight(Bounded(items.begin(), items.end())),
+                         shading::ShadeInterleaved<true, 1>{k});
+  else if (lit)
+    Kokkos::parallel_for("rast::shade::lit", lightweight(Bounded(items.begin(), items.end())),
+                         shading::ShadeInterleaved<true, 0>{k});
+  else if (k.interleaved)
+    Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), shading::ShadeInterleaved<false>{k});
+  else
+    Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), k);
+}
+
+}  // namespace
+
+shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
+  using shading::Shade;
+  const int64_t n = int64_t(f.vp.width) * f.vp.height;
+  ensureCapacity(f.color, "frame.color", size_t(n));
+  if (p.wantDepth) ensureCapacity(f.depth, "frame.depth", size_t(n));
+  if (p.wantPrimId) ensureCapacity(f.primId, "frame.primId", size_t(n));
+  if (p.wantNormals) ensureCapacity(f.normal, "frame.normal", size_t(n));
+  if (p.floatOut) ensureCapacity(f.post.hdr, "post.hdr", size_t(n));
+  if (p.wantGeom) {
+    ensureCapacity(f.post.geom, "post.geom", size_t(n));
+    ensureCapacity(f.post.depth, "post.depth", size_t(n));
+  }
+  if (p.mode == ShadingMode::Depth) {
+    if (!f.depthRange.data()) f.depthRange = allocScalar<Kokkos::MinMaxScalar<float>>("frame.depthRange");
+    Kokkos::parallel_reduce("rast::shade::depth_range", Range(0, n), DepthRange{f.vis, p.frame, f.vp.samples.count},
+                            Kokkos::MinMax<float, Mem>(f.depthRange));
+  }
+  // Filled by name: the functor has some thirty members.
+  Shade k{};
+  k.draws = s.draws;
+  k.drawTriStart = s.drawTriStart;
+  k.indices = s.indices;
+  k.triDraw = s.triDraw;
+  k.uvs = s.uvs;
+  k.colors = s.colors;
+  k.materials = s.materials;
+  k.textures = s.textures;
+  k.texels = s.texels;
+  k.lut = s.srgbToLinear;
+  k.encodePacked = s.srgbEncodePacked;
+  k.numDraws = s.numDraws;
+  k.hasUV = s.hasUV ? 1 : 0;
+  k.hasColor = s.hasColor ? 1 : 0;
+  k.tris = f.tris;
+  k.vis = f.vis;
+  k.worldPos = f.worldPos;
+  k.worldNormal = f.worldNormal;
+  k.color = f.color;
+  k.depthOut = f.depth;
+  k.primOut = f.primId;
+  k.normalOut = f.normal;
+  k.hdr = f.post.hdr;
+  k.geom = f.post.geom;
+  k.viewDepth = f.post.depth;
+  k.lights = lights;
+  k.depthRange = f.depthRange;
+  k.width = f.vp.width;
+  k.samples = f.vp.samples;
+  k.p = p;
+  k.lineShade = makeLineShade(s, f.lines);
+  // Runs of kShadeRun pixels along a row (the last run of a row may be shorter).
+  k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
+  k.runsPerRow = (f.vp.width + k.run - 1) / k.run;
+  k.height = f.vp.height;
+  k.interleaved = kShadeInterleave > 1 && k.run == 1 && f.vp.samples.count == 1;
+  k.blockFrame = f.blockFrame;
+  k.blockDepth = f.blockDepth;
+  const uint32_t numBlocks = visBlocks(f.vp, k.blocksPerRow);
+  k.resetBlocks = f.blockDepth.data() && f.blockDepth.extent(0) >= numBlocks ? 1 : 0;
+  return k;
+}
+
+void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
+  const Shade k = makeShade(s, f, p, lights);
+  launchShade(k, Range(0, k.workItems()));
+  f.visClear = true;
+}
+
+}  // namespace rast

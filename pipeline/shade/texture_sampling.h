@@ -1,0 +1,103 @@
+// Texture sampling on the device: glTF wrap modes, nearest and bilinear
+// filtering of sRGB RGBA8 texels, filtered in linear light as OpenGL does for
+// sRGB textures.
+#pragma once
+
+#include "backends/fast_floor.h"
+#include "base/color.h"
+#include "pipeline/data/gpu_types.h"
+#include "host/scene/scene.h"
+
+namespace rast {
+
+KOKKOS_INLINE_FUNCTION int32_t wrapIndex(int32_t i, int32_t n, int32_t mode) {
+  if (i >= 0 && i < n) return i;  // inside: every mode keeps it (and no division)
+  if (mode == WrapClamp) return i < 0 ? 0 : (i >= n ? n - 1 : i);
+  if (mode == WrapMirror) {
+    const int32_t period = 2 * n;
+    int32_t m = i % period;
+    if (m < 0) m += period;
+    return m < n ? m : period - 1 - m;
+  }
+  int32_t m = i % n;
+  return m < 0 ? m + n : m;
+}
+
+// Brings a texture coordinate into a range where integer texel indices cannot
+// overflow, without changing what any wrap mode samples (the mirror period is
+// 2, a multiple of the repeat period 1). NaN samples the origin.
+KOKKOS_INLINE_FUNCTION float reduceCoord(float u, int32_t mode) {
+  if (!isFinite(u)) return 0.0f;
+  if (mode == WrapClamp) return u < -1.0f ? -1.0f : (u > 2.0f ? 2.0f : u);
+  return u - 2.0f * floorTexel(u * 0.5f);
+}
+
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 fetchTexel(const TextureGPU& t, const Texels& texels, const Lut& lut, int32_t x,
+                                         int32_t y) {
+  return unpackSrgb8(texels(t.offset + uint32_t(y) * uint32_t(t.width) + uint32_t(x)), lut);
+}
+
+// uv (0,0) is the top-left corner of the image (glTF), whose first stored row is
+// the top one: row index = v * height.
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleNearest(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
+                                            float v) {
+  const float fu = reduceCoord(u, t.wrapS) * float(t.width), fv = reduceCoord(v, t.wrapT) * float(t.height);
+  const int32_t x = wrapIndex(int32_t(floorTexel(fu)), t.width, t.wrapS);
+  const int32_t y = wrapIndex(int32_t(floorTexel(fv)), t.height, t.wrapT);
+  return fetchTexel(t, texels, lut, x, y);
+}
+
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleBilinear(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
+                                             float v) {
+  const float fu = reduceCoord(u, t.wrapS) * float(t.width) - 0.5f;
+  const float fv = reduceCoord(v, t.wrapT) * float(t.height) - 0.5f;
+  const float flu = floorTexel(fu), flv = floorTexel(fv);
+  const float a = fu - flu, b = fv - flv;
+  const int32_t x0 = int32_t(flu), y0 = int32_t(flv);
+  const int32_t xa = wrapIndex(x0, t.width, t.wrapS), xb = wrapIndex(x0 + 1, t.width, t.wrapS);
+  const int32_t ya = wrapIndex(y0, t.height, t.wrapT), yb = wrapIndex(y0 + 1, t.height, t.wrapT);
+  const float4 c00 = fetchTexel(t, texels, lut, xa, ya), c10 = fetchTexel(t, texels, lut, xb, ya);
+  const float4 c01 = fetchTexel(t, texels, lut, xa, yb), c11 = fetchTexel(t, texels, lut, xb, yb);
+  return (c00 * ((1.0f - a) * (1.0f - b)) + c10 * (a * (1.0f - b))) + (c01 * ((1.0f - a) * b) + c11 * (a * b));
+}
+
+// Mipmap level k of a texture, as a texture of its own (levels follow each
+// other in the texel buffer, each half the size of the previous, at least 1).
+KOKKOS_INLINE_FUNCTION TextureGPU mipLevel(const TextureGPU& t, int k) {
+  TextureGPU l = t;
+  for (int i = 0; i < k; ++i) {
+    l.offset += uint32_t(l.width) * uint32_t(l.height);
+    l.width = l.width > 1 ? l.width / 2 : 1;
+    l.height = l.height > 1 ? l.height / 2 : 1;
+  }
+  return l;
+}
+
+// Level of detail from the screen-space derivatives of the texture coordinates
+// (OpenGL 4.6 section 8.14: lambda = log2 of the larger footprint side, in texels).
+KOKKOS_INLINE_FUNCTION float textureLod(float dudx, float dvdx, float dudy, float dvdy, int32_t w, int32_t h) {
+  const float ax = dudx * float(w), bx = dvdx * float(h), ay = dudy * float(w), by = dvdy * float(h);
+  const float rx = ax * ax + bx * bx, ry = ay * ay + by * by;
+  const float rho2 = rx > ry ? rx : ry;
+  if (!(rho2 > 0.0f)) return 0.0f;
+  return 0.5f * ::log2f(rho2);
+}
+
+// Trilinear filtering: bilinear in the two levels around lod, blended.
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleTrilinear(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
+                                              float lod) {
+  const float maxLod = float(t.levels - 1);
+  lod = lod < 0.0f ? 0.0f : (lod > maxLod ? maxLod : lod);
+  const int k = int(::floorf(lod));
+  const float f = lod - float(k);
+  const float4 a = sampleBilinear(mipLevel(t, k), texels, lut, u, v);
+  if (f <= 0.0f || k + 1 >= t.levels) return a;
+  const float4 b = sampleBilinear(mipLevel(t, k + 1), texels, lut, u, v);
+  return a * (1.0f - f) + b * f;
+}
+
+}  // namespace rast

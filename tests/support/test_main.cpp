@@ -1,0 +1,36 @@
+// Catch2 runner with Kokkos initialised once for all tests.
+#define CATCH_CONFIG_RUNNER
+#include <catch2/catch.hpp>
+
+#include "pipeline/data/test_hooks.h"
+
+#include <Kokkos_Core.hpp>
+
+#include <cstdlib>
+
+namespace {
+
+// Every test case starts with the pipeline's test hooks at their defaults
+// (pipeline/data/test_hooks.h), whatever the case before it set or how it ended.
+struct ResetTestHooks : Catch::TestEventListenerBase {
+  using TestEventListenerBase::TestEventListenerBase;
+  void testCaseStarting(const Catch::TestCaseInfo&) override { rast::testHooks() = rast::TestHooks{}; }
+  void testCaseEnded(const Catch::TestCaseStats&) override { rast::testHooks() = rast::TestHooks{}; }
+};
+
+}  // namespace
+
+CATCH_REGISTER_LISTENER(ResetTestHooks)
+
+int main(int argc, char** argv) {
+  // Kokkos' OpenMP start-up advice goes to stdout, where ctest's test discovery
+  // would read it as test names; unit tests do not pin threads anyway.
+  setenv("OMP_PROC_BIND", "false", 0);
+  Kokkos::initialize();
+  int rc = 0;
+  {
+    rc = Catch::Session().run(argc, argv);
+  }
+  Kokkos::finalize();
+  return rc;
+}
