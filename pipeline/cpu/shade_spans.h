@@ -209,7 +209,10 @@ struct ShadeSpans : Shade {
 
   // The cached SpanTri of raster triangle `index`, prepared on a miss.
   // spanConsts: with k and tex too (a batch's lanes need only f).
-  KOKKOS_INLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c, bool spanConsts = true) const {
+  // Forced inline: it runs once per span, and GCC outlined it (with a call
+  // per span) once the span kernels had a file of their own (callgrind on
+  // duck's fused tiles: 5% more instructions).
+  KOKKOS_FORCEINLINE_FUNCTION SpanTri& lookup(uint32_t index, SpanTriCache& c, bool spanConsts = true) const {
     for (int s = 0; s < SpanTriCache::kSlots; ++s)
       if (c.key[s] == index) {
         SpanTri& st = c.slot[s];
