@@ -35,6 +35,9 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--fovy", fovy, "vertical field of view, degrees (default: the scene's camera's, else 45)");
   app.add_option("--near", znear, "near plane distance");
   app.add_option("--far", zfar, "far plane distance");
+  app.add_option("--camera", fileCamera, "view through a camera of the glTF file: its index N (from 0) or its name "
+                                         "(`rast info SCENE` lists them)");
+  app.add_option("--ortho", ortho, "orthographic projection with this half height (world units) instead of --fovy");
   app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
   app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth|uv|miplevel")->capture_default_str();
   app.add_option("--filter", filter, "texture filter: nearest|bilinear|trilinear")->capture_default_str();
@@ -135,8 +138,14 @@ void SceneOptions::applySceneLook(const Scene& scene, RenderSettings& rs, bool s
 Camera SceneOptions::camera(const Scene& s) const {
   // A builtin scene's own camera keeps its field of view unless --fovy is given.
   if (fovy && !(*fovy > 0.0 && *fovy < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
+  if (ortho && !(*ortho > 0.0 && std::isfinite(*ortho))) throw Error("--ortho must be a positive half height");
   Camera c;
-  try {
+  if (!fileCamera.empty()) {
+    // The file's camera sets the whole view; only its planes may be overridden.
+    if (cameraGiven() || fovy || ortho)
+      throw Error("--camera sets the view: give it or --eye/--target/--up/--fovy/--ortho, not both");
+    c = rast::fileCamera(s, fileCamera);
+  } else try {
     const Camera framed = defaultCamera(s, fovy.value_or(45.0));
     c = framed;
   } catch (const Error&) {
@@ -145,14 +154,19 @@ Camera SceneOptions::camera(const Scene& s) const {
     if (eye.empty() || target.empty() || !znear || !zfar) throw;
   }
   if (fovy) c.fovyDeg = *fovy;
+  if (ortho) c.orthoHalfHeight = *ortho;
   if (!eye.empty()) c.eye = parseVec3(eye, "eye");
   if (!target.empty()) c.target = parseVec3(target, "target");
   if (!up.empty()) c.up = parseVec3(up, "up");
   if (znear) c.znear = *znear;
   if (zfar) c.zfar = *zfar;
   if (!(c.fovyDeg > 0.0 && c.fovyDeg < 180.0)) throw Error("--fovy must be in (0, 180) degrees");
-  if (!(c.znear > 0.0) || !(c.zfar > c.znear) || !std::isfinite(c.zfar))
-    throw Error("--near/--far: need 0 < near < far");
+  // An orthographic view may start at the eye (glTF allows znear 0 there).
+  if (!(c.orthoHalfHeight > 0.0 ? c.znear >= 0.0 : c.znear > 0.0) || !(c.zfar > c.znear) || !std::isfinite(c.zfar))
+    throw Error(c.orthoHalfHeight > 0.0 ? "--near/--far: need 0 <= near < far" : "--near/--far: need 0 < near < far");
+  // SSAO reconstructs view-space positions through a perspective projection.
+  if (c.orthoHalfHeight > 0.0 && ssaoOpt && ssaoOpt->count() > 0)
+    throw Error("--ssao needs a perspective camera (this one is orthographic)");
   if (glm::length(c.eye - c.target) == 0.0) throw Error("--eye and --target must differ");
   if (glm::length(glm::cross(c.target - c.eye, c.up)) == 0.0) throw Error("--up must not be parallel to the view direction");
   return c;

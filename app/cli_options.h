@@ -19,6 +19,8 @@ struct SceneOptions {
   std::string eye, target, up;  // empty: auto-framing
   std::optional<double> fovy;  // empty: the scene's camera's, or 45 degrees for auto-framing
   std::optional<double> znear, zfar;
+  std::string fileCamera;           // --camera N|NAME: a camera of the glTF file
+  std::optional<double> ortho;      // --ortho H: orthographic, half height H
   std::string cull = "none", shading = "lambert", filter = "bilinear", raster = "auto";
   std::vector<std::string> lights;
   std::string background;  // empty: the scene's look, else black

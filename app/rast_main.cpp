@@ -17,6 +17,7 @@
 #include "app/ssao_error_cmd.h"
 #include "app/cli_options.h"
 #include "app/progress.h"
+#include "app/scene_info.h"
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
@@ -73,7 +74,9 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   const Scene scene = loadSceneArg(so.scene, so.loadOptions());
   const Camera cam = so.camera(scene);
   so.applySceneLook(scene, rs, /*still=*/true);
-  if (!so.cameraGiven()) std::printf("rast: camera (%s) %s\n", cameraOrigin(scene), cam.flags().c_str());
+  if (!so.cameraGiven())
+    std::printf("rast: camera (%s) %s\n", so.fileCamera.empty() ? cameraOrigin(scene) : ("file camera " + so.fileCamera).c_str(),
+                cam.flags().c_str());
   Renderer r(scene, so.memoryBudget());
   Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
   if (progress.active()) r.onPass = [&progress](int done, int total) { progress.update(done, total); };
@@ -187,7 +190,13 @@ int run(int argc, char** argv) {
   ssaoOpts.addTo(*ssaoErr);
   seo.addTo(*ssaoErr);
 
-  CLI::App* info = app.add_subcommand("info", "backend, Kokkos version, threads / device, builtin scenes");
+  CLI::App* info = app.add_subcommand("info", "backend, Kokkos version, threads / device, builtin scenes; "
+                                              "with SCENE: its cameras, lights, materials and extensions");
+  SceneOptions infoOpts;
+  info->add_option("scene", infoOpts.scene, "glTF 2.0 file (.gltf/.glb) or builtin:<name> to describe");
+  info->add_flag("--allow-external-files", infoOpts.allowExternalFiles,
+                 "let the file read buffers and images outside its folder");
+  info->add_option("--max-memory", infoOpts.maxMemory, "memory budget for loading (e.g. 4G)");
 
   std::string helpTopic;
   CLI::App* help = app.add_subcommand("help", "show this help, or a command's: rast help render");
@@ -216,6 +225,10 @@ int run(int argc, char** argv) {
     exportGlb(s, exportOut);
     std::printf("rast: wrote %s (%u triangles); view it with %s\n", exportOut.c_str(), s.triangleCount(),
                 defaultCamera(s).flags().c_str());
+    return 0;
+  }
+  if (!infoOpts.scene.empty()) {
+    printSceneInfo(loadSceneArg(infoOpts.scene, infoOpts.loadOptions()), infoOpts.scene);
     return 0;
   }
   return cmdInfo();

@@ -12,6 +12,7 @@
 // names the file, never as a crash or a partial scene.
 #include "host/gltf/gltf_internal.h"
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -63,6 +64,7 @@ class Loader {
     }
     state_.assign(m_.nodes.size(), 0);
     for (int r : roots) traverse(r);
+    gatherFacts();
     if (s_.draws.empty()) throw Error("the scene has no triangles, lines or points to draw");
   }
 
@@ -89,6 +91,12 @@ class Loader {
       for (int k = 0; k < 16; ++k)
         if (!std::isfinite(glm::value_ptr(world)[k]))
           throw Error("node " + std::to_string(ni) + " has a non-finite transform");
+      if (n.camera >= 0) {
+        s_.cameras.push_back(fileCamera(n.camera, n.name, world));
+      } else if (n.camera < -1) {
+        throw Error("camera index " + std::to_string(n.camera) + " out of range");
+      }
+      if (n.extensions.count("KHR_lights_punctual")) ++s_.facts.lightNodes;
       if (n.mesh >= 0) {
         if (size_t(n.mesh) >= m_.meshes.size()) throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
         for (uint32_t p : meshPrims(n.mesh)) s_.draws.push_back(Draw{p, world});
@@ -109,6 +117,71 @@ class Loader {
         state_[f.node] = 2;
         stack.pop_back();
       }
+    }
+  }
+
+  // Camera ci of the file as node `nodeName` places it, its values checked
+  // against glTF 2.0's rules (5.12-5.14): a camera that cannot make a view is
+  // an Error when the file is loaded, not when --camera picks it.
+  FileCamera fileCamera(int ci, const std::string& nodeName, const glm::dmat4& world) const {
+    if (size_t(ci) >= m_.cameras.size()) throw Error("camera index " + std::to_string(ci) + " out of range");
+    const tinygltf::Camera& gc = m_.cameras[ci];
+    const std::string at = "cameras[" + std::to_string(ci) + "]";
+    auto finitePositive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    FileCamera c;
+    c.name = !gc.name.empty() ? gc.name : nodeName;
+    c.world = world;
+    if (gc.type == "perspective") {
+      const tinygltf::PerspectiveCamera& p = gc.perspective;
+      if (!finitePositive(p.yfov) || p.yfov >= glm::pi<double>()) throw Error(at + ": perspective yfov must be in (0, pi) radians");
+      if (!finitePositive(p.znear)) throw Error(at + ": perspective znear must be positive");
+      if (p.zfar != 0.0 && !(std::isfinite(p.zfar) && p.zfar > p.znear))
+        throw Error(at + ": perspective zfar must be greater than znear");
+      if (p.aspectRatio != 0.0 && !finitePositive(p.aspectRatio))
+        throw Error(at + ": perspective aspectRatio must be positive");
+      c.yfovRad = p.yfov;
+      c.aspectRatio = p.aspectRatio;
+      c.znear = p.znear;
+      c.zfar = p.zfar;
+    } else if (gc.type == "orthographic") {
+      const tinygltf::OrthographicCamera& o = gc.orthographic;
+      if (!std::isfinite(o.xmag) || o.xmag == 0.0 || !std::isfinite(o.ymag) || o.ymag == 0.0)
+        throw Error(at + ": orthographic xmag and ymag must be finite and not zero");
+      if (!(std::isfinite(o.znear) && o.znear >= 0.0)) throw Error(at + ": orthographic znear must not be negative");
+      if (!(std::isfinite(o.zfar) && o.zfar > o.znear)) throw Error(at + ": orthographic zfar must be greater than znear");
+      c.orthographic = true;
+      c.xmag = std::abs(o.xmag);
+      c.ymag = std::abs(o.ymag);
+      c.znear = o.znear;
+      c.zfar = o.zfar;
+    } else {
+      throw Error(at + ": type must be perspective or orthographic");
+    }
+    return c;
+  }
+
+  // What the file declares that `rast info SCENE` reports (FileFacts).
+  void gatherFacts() {
+    FileFacts& f = s_.facts;
+    f.extensionsUsed = m_.extensionsUsed;
+    f.extensionsRequired = m_.extensionsRequired;
+    for (const tinygltf::Light& l : m_.lights)
+      ++f.lightsDeclared[l.type == "directional" ? 0 : l.type == "point" ? 1 : 2];
+    f.materials = uint32_t(m_.materials.size());
+    for (const tinygltf::Material& gm : m_.materials) {
+      const auto& pbr = gm.pbrMetallicRoughness;
+      bool emissive = gm.emissiveTexture.index >= 0;
+      for (double e : gm.emissiveFactor) emissive = emissive || e != 0.0;
+      const bool transform = pbr.baseColorTexture.extensions.count("KHR_texture_transform") ||
+                             pbr.metallicRoughnessTexture.extensions.count("KHR_texture_transform") ||
+                             gm.normalTexture.extensions.count("KHR_texture_transform") ||
+                             gm.occlusionTexture.extensions.count("KHR_texture_transform") ||
+                             gm.emissiveTexture.extensions.count("KHR_texture_transform");
+      const bool uses[10] = {pbr.baseColorTexture.index >= 0, pbr.metallicRoughnessTexture.index >= 0,
+                             gm.normalTexture.index >= 0, gm.occlusionTexture.index >= 0, emissive,
+                             gm.alphaMode == "MASK", gm.alphaMode == "BLEND", gm.doubleSided,
+                             gm.extensions.count("KHR_materials_unlit") > 0, transform};
+      for (int k = 0; k < 10; ++k) f.materialUses[k] += uses[k] ? 1 : 0;
     }
   }
 
@@ -155,9 +228,13 @@ class Loader {
 
     int32_t matIndex = -1;
     int texCoordSet = -1;
+    UvTransform uvXf;
     if (p.material >= 0) {
       if (size_t(p.material) >= m_.materials.size()) throw Error("material index " + std::to_string(p.material) + " out of range");
-      matIndex = material(p.material, &texCoordSet);
+      const LoadedMaterial& lm = material(p.material);
+      matIndex = lm.index;
+      texCoordSet = lm.texCoordSet;
+      uvXf = lm.uv;
     } else if (p.material < -1) {
       throw Error("material index out of range");
     }
@@ -171,6 +248,7 @@ class Loader {
       if (!allFinite(uf)) throw Error("TEXCOORD accessor " + std::to_string(uvA) + " has non-finite values");
       uv.resize(nv);
       for (size_t i = 0; i < nv; ++i) uv[i] = {uf[2 * i], uf[2 * i + 1]};
+      applyUvTransform(uvXf, uv);
     }
 
     std::vector<float4> col;
@@ -265,7 +343,70 @@ class Loader {
     ctx_.ledger.charge(what, bytes);
   }
 
-  int32_t material(int mi, int* texCoordSet) {
+  // A material's base-colour texture transform (KHR_texture_transform): an
+  // affine map of its texture coordinates, uv' = T(offset) R(rotation) S(scale) uv.
+  // It is baked into each primitive's UVs at load (applyUvTransform): a
+  // primitive has one material, and an affine map commutes with the
+  // barycentric interpolation of the coordinates, so the texels sampled (and
+  // the derivatives that pick mip levels) are the spec's, at no cost a frame.
+  struct UvTransform {
+    bool on = false;
+    double m[6] = {1, 0, 0, 0, 1, 0};  // u' = m0 u + m1 v + m2, v' = m3 u + m4 v + m5
+  };
+
+  static UvTransform uvTransform(const tinygltf::TextureInfo& ti, int mi, int* set) {
+    UvTransform t;
+    const auto it = ti.extensions.find("KHR_texture_transform");
+    if (it == ti.extensions.end()) return t;
+    const tinygltf::Value& x = it->second;
+    const std::string at = "materials[" + std::to_string(mi) + "] baseColorTexture KHR_texture_transform: ";
+    if (!x.IsObject()) throw Error(at + "must be an object");
+    auto pair = [&](const char* key, double d0, double d1, double out[2]) {
+      out[0] = d0;
+      out[1] = d1;
+      if (!x.Has(key)) return;
+      const tinygltf::Value& v = x.Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+        throw Error(at + key + " must be an array of 2 numbers");
+      out[0] = v.Get(0).GetNumberAsDouble();
+      out[1] = v.Get(1).GetNumberAsDouble();
+      if (!std::isfinite(out[0]) || !std::isfinite(out[1])) throw Error(at + key + " must be finite");
+    };
+    double offset[2], scale[2], rotation = 0.0;
+    pair("offset", 0.0, 0.0, offset);
+    pair("scale", 1.0, 1.0, scale);
+    if (x.Has("rotation")) {
+      const tinygltf::Value& r = x.Get("rotation");
+      if (!r.IsNumber() || !std::isfinite(r.GetNumberAsDouble())) throw Error(at + "rotation must be a finite number");
+      rotation = r.GetNumberAsDouble();
+    }
+    if (x.Has("texCoord")) {  // overrides the textureInfo's set
+      const tinygltf::Value& c = x.Get("texCoord");
+      if (!c.IsInt() || c.GetNumberAsInt() < 0) throw Error(at + "texCoord must be a non-negative integer");
+      *set = c.GetNumberAsInt();
+    }
+    const double cs = std::cos(rotation), sn = std::sin(rotation);
+    t.on = true;
+    const double m[6] = {cs * scale[0], sn * scale[1], offset[0], -sn * scale[0], cs * scale[1], offset[1]};
+    std::copy(m, m + 6, t.m);
+    return t;
+  }
+
+  static void applyUvTransform(const UvTransform& t, std::vector<float2>& uv) {
+    if (!t.on) return;
+    for (float2& p : uv) {
+      const double u = p.x, v = p.y;
+      p = {float(t.m[0] * u + t.m[1] * v + t.m[2]), float(t.m[3] * u + t.m[4] * v + t.m[5])};
+    }
+  }
+
+  struct LoadedMaterial {
+    int32_t index;
+    int texCoordSet;  // -1: untextured
+    UvTransform uv;
+  };
+
+  const LoadedMaterial& material(int mi) {
     auto it = matCache_.find(mi);
     if (it == matCache_.end()) {
       const tinygltf::Material& gm = m_.materials[mi];
@@ -274,16 +415,17 @@ class Loader {
       if (f.size() == 4) mat.baseColorFactor = {float(f[0]), float(f[1]), float(f[2]), float(f[3])};
       const auto& bt = gm.pbrMetallicRoughness.baseColorTexture;
       int set = -1;
+      UvTransform xf;
       if (bt.index >= 0) {
         mat.texture = texture(bt.index);
         set = bt.texCoord;
         if (set < 0) throw Error("material texCoord set is negative");
+        xf = uvTransform(bt, mi, &set);
       }
       s_.materials.push_back(mat);
-      it = matCache_.emplace(mi, std::make_pair(int32_t(s_.materials.size() - 1), set)).first;
+      it = matCache_.emplace(mi, LoadedMaterial{int32_t(s_.materials.size() - 1), set, xf}).first;
     }
-    *texCoordSet = it->second.second;
-    return it->second.first;
+    return it->second;
   }
 
   // Decodes a texture once, however many materials use it.
@@ -300,7 +442,7 @@ class Loader {
   AccessorReader acc_;
   std::vector<char> state_;  // per node: 0 not seen, 1 on the current path, 2 done
   std::map<int, std::vector<uint32_t>> meshCache_;
-  std::map<int, std::pair<int32_t, int>> matCache_;
+  std::map<int, LoadedMaterial> matCache_;
   std::map<int, int32_t> texCache_;
 };
 

@@ -285,7 +285,12 @@ class SchemaChecker {
 // Extensions rast honours when a file requires them. KHR_mesh_quantization only
 // widens the accessor component types allowed for attributes, which the
 // AccessorReader reads anyway.
-bool extensionSupported(const std::string& name) { return name == "KHR_mesh_quantization"; }
+// What a file may require: the loader reads quantized attributes
+// (accessors.cpp) and applies the base-colour texture's transform
+// (model_walk.cpp); app/scene_info.cpp reports the same list.
+bool extensionSupported(const std::string& name) {
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform";
+}
 
 }  // namespace
 

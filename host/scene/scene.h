@@ -56,6 +56,33 @@ struct SceneCamera {
   double fovyDeg = 45.0, znear = 0.1, zfar = 100.0;
 };
 
+// A camera a glTF file declares, placed by the node that uses it (one entry
+// per node instance, in scene traversal order). It looks down its node's -Z
+// with +Y up (glTF 2.0, 3.10).
+struct FileCamera {
+  std::string name;            // the camera's name, else its node's, else ""
+  bool orthographic = false;
+  double yfovRad = 0.0;        // perspective: vertical field of view
+  double aspectRatio = 0.0;    // perspective: the file's aspect (0: none); rast uses the image's
+  double xmag = 0.0, ymag = 0.0;  // orthographic: half extents of the view volume
+  double znear = 0.0, zfar = 0.0;  // zfar 0: infinite (perspective only)
+  glm::dmat4 world = glm::dmat4(1.0);
+};
+
+// What a file declares beyond what rast draws, for `rast info SCENE`: the
+// extensions and how many materials use each material feature. Filled by the
+// glTF loader; empty for built-in scenes.
+struct FileFacts {
+  std::vector<std::string> extensionsUsed, extensionsRequired;
+  uint32_t lightsDeclared[3] = {0, 0, 0};  // KHR_lights_punctual: directional, point, spot
+  uint32_t lightNodes = 0;                 // nodes that place a light
+  uint32_t materials = 0;
+  // Materials using: baseColorTexture, metallicRoughnessTexture, normalTexture,
+  // occlusionTexture, emission (factor or texture), alphaMode MASK, alphaMode
+  // BLEND, doubleSided, KHR_materials_unlit, KHR_texture_transform (any texture).
+  uint32_t materialUses[10] = {};
+};
+
 // How a scene asks to be shown when the command line does not say (the embedded
 // default scene, the stress scenes): glTF files keep rast's neutral defaults, so
 // that they compare pixel for pixel with glref.
@@ -83,6 +110,8 @@ struct Scene {
   std::vector<Draw> draws;  // in scene traversal order: defines primitive ids
   std::vector<Material> materials;
   std::vector<Texture> textures;
+  std::vector<FileCamera> cameras;  // a glTF file's cameras, by node (--camera N|NAME)
+  FileFacts facts;
 
   uint32_t triangleCount() const;  // drawn triangles, each instance counted
   uint64_t lineCount() const;      // drawn line segments

@@ -110,4 +110,17 @@ glb("textured.glb", {
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
                     {"buffer": 0, "byteOffset": 60, "byteLength": len(png)}],
     "accessors": [pos, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]}, b)
+# 8. cameras placed by nodes (perspective, orthographic), a light, and a
+#    base-colour texture transform with a texCoord override (#37)
+c = json.load(open(os.path.join(out, "textured.gltf")))
+c["nodes"] += [{"camera": 0, "translation": [0, 0, 4]}, {"camera": 1, "rotation": [0.7071, 0, 0, 0.7071]},
+               {"extensions": {"KHR_lights_punctual": {"light": 0}}}]
+c["scenes"] = [{"nodes": [0, 1, 2, 3]}]
+c["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 40, "aspectRatio": 1.5}},
+                {"type": "orthographic", "name": "top", "orthographic": {"xmag": 2, "ymag": 1, "znear": 0, "zfar": 9}}]
+c["extensionsUsed"] = ["KHR_texture_transform", "KHR_lights_punctual"]
+c["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "spot", "spot": {"outerConeAngle": 0.5}}]}}
+c["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+    "KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": 0.4, "scale": [2, 0.5], "texCoord": 0}}
+save("cameras_transform.gltf", c)
 print(f"wrote {len(os.listdir(out))} seeds to {out}")

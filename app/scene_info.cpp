@@ -1,0 +1,68 @@
+#include "app/scene_info.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdio>
+
+namespace rast {
+
+bool extensionHonoured(const std::string& name) {
+  // The loader reads quantized attributes (host/gltf/accessors.cpp) and bakes
+  // the base-colour texture's transform into the UVs (model_walk.cpp); every
+  // other extension is ignored (and refused when a file requires it).
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform";
+}
+
+void printSceneInfo(const Scene& s, const std::string& source) {
+  const FileFacts& f = s.facts;
+  std::printf("scene: %s\n", source.c_str());
+  std::printf("geometry: %u triangles, %llu line segments, %llu points in %zu draws of %zu primitives; %zu vertices\n",
+              s.triangleCount(), (unsigned long long)s.lineCount(), (unsigned long long)s.pointCount(), s.draws.size(),
+              s.prims.size(), s.positions.size());
+  std::printf("textures: %zu (base colour only)\n", s.textures.size());
+
+  std::printf("cameras: %zu%s\n", s.cameras.size(), s.cameras.empty() ? " (rast frames the scene)" : " (--camera N|NAME)");
+  for (size_t i = 0; i < s.cameras.size(); ++i) {
+    const FileCamera& c = s.cameras[i];
+    const glm::dvec3 eye(c.world[3]);
+    char proj[160];
+    if (c.orthographic)
+      std::snprintf(proj, sizeof proj, "orthographic xmag %.6g ymag %.6g", c.xmag, c.ymag);
+    else
+      std::snprintf(proj, sizeof proj, "perspective yfov %.6g deg%s", glm::degrees(c.yfovRad),
+                    c.aspectRatio > 0.0 ? " (file aspect ignored: the image's is used)" : "");
+    char planes[96];
+    if (c.zfar > 0.0)
+      std::snprintf(planes, sizeof planes, "near %.6g far %.6g", c.znear, c.zfar);
+    else
+      std::snprintf(planes, sizeof planes, "near %.6g far infinite", c.znear);
+    std::printf("  %zu '%s': %s, %s, at %.6g,%.6g,%.6g\n", i, c.name.c_str(), proj, planes, eye.x, eye.y, eye.z);
+  }
+
+  const uint32_t lights = f.lightsDeclared[0] + f.lightsDeclared[1] + f.lightsDeclared[2];
+  std::printf("lights (KHR_lights_punctual): %u declared (%u directional, %u point, %u spot), placed by %u nodes: %s\n",
+              lights, f.lightsDeclared[0], f.lightsDeclared[1], f.lightsDeclared[2], f.lightNodes,
+              lights ? "not honoured (rast lights with its headlight or --light)" : "none");
+
+  std::printf("materials: %u\n", f.materials);
+  static const char* kFeature[10] = {"baseColorTexture",  "metallicRoughnessTexture", "normalTexture",
+                                     "occlusionTexture",  "emissive",                 "alphaMode MASK",
+                                     "alphaMode BLEND",   "doubleSided",              "KHR_materials_unlit",
+                                     "KHR_texture_transform"};
+  // What the shading uses today: the base colour factor and texture (and vertex colours).
+  // KHR_texture_transform: on the base-colour texture, the only one sampled.
+  static const bool kHonoured[10] = {true, false, false, false, false, false, false, false, false, true};
+  for (int k = 0; k < 10; ++k)
+    if (f.materialUses[k])
+      std::printf("  %-26s %u material%s: %s\n", kFeature[k], f.materialUses[k], f.materialUses[k] == 1 ? "" : "s",
+                  kHonoured[k] ? "honoured" : "ignored");
+
+  auto list = [](const char* what, const std::vector<std::string>& names) {
+    std::printf("%s: %zu\n", what, names.size());
+    for (const std::string& n : names) std::printf("  %-34s %s\n", n.c_str(), extensionHonoured(n) ? "honoured" : "ignored");
+  };
+  list("extensions used", f.extensionsUsed);
+  list("extensions required", f.extensionsRequired);
+}
+
+}  // namespace rast
