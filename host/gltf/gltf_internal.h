@@ -37,6 +37,8 @@ struct LoadContext {
   // The first refusal (outside the folder, over the budget) met inside a
   // tinygltf callback: tinygltf only warns when an image cannot be read.
   std::string fatal;
+  // The resolved path of every external file read (Scene::sourceFiles).
+  std::vector<std::string> filesRead;
 };
 
 // Makes a message printable on one line: control characters become spaces.
@@ -44,7 +46,9 @@ std::string oneLine(std::string s);
 
 // ---------------------------------------------------------------- file_gate.cpp
 
-std::vector<unsigned char> readWholeFile(const std::string& path);
+// The scene file, whole; refused before reading when it is larger than
+// `budget` or does not start like a glTF file.
+std::vector<unsigned char> readWholeFile(const std::string& path, uint64_t budget);
 
 // tinygltf's file callbacks for external buffers and images (`user` is the
 // LoadContext): every path goes through the scene's UriResolver.

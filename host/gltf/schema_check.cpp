@@ -11,6 +11,9 @@
 // read or decoded; each problem is one Error naming the property's path.
 #include "host/gltf/gltf_internal.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <limits>
 
 namespace rast::gltf_detail {
@@ -290,6 +293,39 @@ bool extensionSupported(const std::string& name) { return name == "KHR_mesh_quan
 }  // namespace
 
 // What tinygltf leaves unchecked or reports unclearly, checked on the JSON.
+namespace {
+
+// A buffer's data: URI as tinygltf decodes it (its media types, base64 up to
+// the first character outside the alphabet), so that a wrong byteLength is
+// named as such instead of tinygltf's "Failed to decode 'uri'" with the whole
+// URI echoed.
+void checkBufferDataUri(const std::string& at, const std::string& uri, uint64_t byteLength) {
+  static const char* kHeaders[] = {"data:application/octet-stream;base64,", "data:application/gltf-buffer;base64,",
+                                   "data:image/jpeg;base64,", "data:image/png;base64,", "data:image/bmp;base64,",
+                                   "data:image/gif;base64,", "data:text/plain;base64,"};
+  size_t header = 0;
+  for (const char* h : kHeaders)
+    if (uri.rfind(h, 0) == 0) header = std::strlen(h);
+  if (header == 0) {
+    const std::string media = uri.substr(5, std::min(uri.find_first_of(";,"), size_t(64)) - 5);
+    throw Error(at + ": a data: URI of media type '" + printable(media, 60) +
+                "' or not base64 (buffers are data:application/octet-stream;base64,...)");
+  }
+  size_t n = 0;
+  while (header + n < uri.size()) {
+    const unsigned char c = uri[header + n];
+    if (!std::isalnum(c) && c != '+' && c != '/') break;
+    ++n;
+  }
+  const uint64_t decoded = n / 4 * 3 + (n % 4 ? n % 4 - 1 : 0);
+  if (decoded == 0) throw Error(at + ": its data: URI holds no base64 data");
+  if (decoded != byteLength)
+    throw Error(at + ": its data: URI decodes to " + std::to_string(decoded) + " bytes, but its byteLength says " +
+                std::to_string(byteLength));
+}
+
+}  // namespace
+
 void checkDocument(const Json& j, LoadContext& ctx) {
   SchemaChecker().object(j, gltfSchema(), "");
 
@@ -330,7 +366,10 @@ void checkDocument(const Json& j, LoadContext& ctx) {
     const auto u = buffers[i].find("uri");
     if (u == buffers[i].end()) continue;
     const std::string uri = u->get<std::string>();
-    if (uri.rfind("data:", 0) == 0) continue;
+    if (uri.rfind("data:", 0) == 0) {
+      checkBufferDataUri(at, uri, buffers[i]["byteLength"].get<uint64_t>());
+      continue;
+    }
     try {
       ctx.resolver.resolveUri(uri);
     } catch (const Error& e) {
@@ -342,8 +381,15 @@ void checkDocument(const Json& j, LoadContext& ctx) {
     const auto u = images[i].find("uri");
     if (u == images[i].end()) continue;
     const std::string uri = u->get<std::string>();
-    if (uri.rfind("data:", 0) == 0)
+    if (uri.rfind("data:", 0) == 0) {
       ctx.ledger.charge("images[" + std::to_string(i) + "] data: URI", uri.size() / 4 * 3);
+      continue;
+    }
+    try {
+      UriResolver::checkEscapes(uri);
+    } catch (const Error& e) {
+      throw Error("images[" + std::to_string(i) + "]: " + e.what());
+    }
   }
 }
 

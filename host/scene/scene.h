@@ -83,6 +83,9 @@ struct Scene {
   std::vector<Draw> draws;  // in scene traversal order: defines primitive ids
   std::vector<Material> materials;
   std::vector<Texture> textures;
+  // Every file the scene was read from: the scene file and, resolved, each
+  // external buffer and image. Outputs must not be any of them (app/).
+  std::vector<std::string> sourceFiles;
 
   uint32_t triangleCount() const;  // drawn triangles, each instance counted
   uint64_t lineCount() const;      // drawn line segments
