@@ -69,7 +69,8 @@ GlbLayout checkGlb(const std::vector<unsigned char>& b);
 
 // The JSON text of the file, its nesting depth checked first; throws Error for
 // invalid JSON or a root that is not an object.
-nlohmann::json parseJson(const char* s, size_t n);
+// Its parsed size (256 bytes a value) is charged to `ledger` first.
+nlohmann::json parseJson(const char* s, size_t n, MemoryLedger& ledger);
 
 // What tinygltf leaves unchecked or reports unclearly, checked on the JSON.
 void checkDocument(const nlohmann::json& j, LoadContext& ctx);

@@ -320,7 +320,7 @@ Scene loadChecked(const std::string& path, const LoadOptions& options) {
   if (binary) glb = checkGlb(bytes);
   const char* json = reinterpret_cast<const char*>(bytes.data()) + (binary ? glb.jsonOffset : 0);
   const size_t jsonLength = binary ? glb.jsonLength : bytes.size();
-  checkDocument(parseJson(json, jsonLength), ctx);
+  checkDocument(parseJson(json, jsonLength, ctx.ledger), ctx);
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(loadImageChecked, &ctx);

@@ -104,6 +104,19 @@ case("one 4096^2 PNG as six images, 1500M", ["render", six, "-o", out, "--size",
 two = adversarial.triangle_scene(scene, "two.gltf", image_uris=["big.png"], image_refs=[0, 0])
 case("one image used by two textures, 700M", ["render", two, "-o", out, "--size", "64x48"], 700, ["either"])
 
+# A small JSON text that parses into a large tree: 4 MB of "0," in extras is
+# 2M values, about 380 MiB resident once parsed (256 bytes a value charged).
+import json  # noqa: E402
+values = adversarial.triangle_scene(work, "values.gltf")
+with open(values) as f:
+    doc = json.load(f)
+doc["extras"] = {"a": [0] * 2_000_000}
+with open(values, "w") as f:
+    json.dump(doc, f, separators=(",", ":"))
+case("4 MB JSON of 2M values, 300M", ["render", values, "-o", out, "--size", "64x48"], 300,
+     ["refuse", "the JSON document (", "values, parsed) needs"])
+case("4 MB JSON of 2M values, 600M", ["render", values, "-o", out, "--size", "64x48"], 600, ["render"])
+
 # Files: larger than the budget, refused before reading; zeros refused at the first byte.
 zeros = os.path.join(work, "zeros.gltf")
 with open(zeros, "wb") as f:
