@@ -1,5 +1,7 @@
 #include "app/bench.h"
 
+#include "host/image/safe_output.h"
+
 #include "backends/stage_timer.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
@@ -161,16 +163,17 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
               "as many frames timed whole; minimum needed %.1f MiB; float film and post buffers %.1f MiB)\n",
               bo.frames, bo.warmup, rows[0].stats.minimumBytes / 1048576.0, rows[0].stats.filmBytes / 1048576.0);
 
+  // Written atomically (host/image/safe_output.h), as every output of rast.
   if (!bo.json.empty()) {
-    std::ofstream f(bo.json);
-    if (!f) throw Error("cannot write '" + bo.json + "'");
+    std::ostringstream f;
     f << "[\n";
     for (size_t i = 0; i < rows.size(); ++i) f << "  " << jsonRow(rows[i]) << (i + 1 < rows.size() ? ",\n" : "\n");
     f << "]\n";
+    const std::string text = f.str();
+    writeFileAtomically(bo.json, text.data(), text.size());
   }
   if (!bo.csv.empty()) {
-    std::ofstream f(bo.csv);
-    if (!f) throw Error("cannot write '" + bo.csv + "'");
+    std::ostringstream f;
     f << "scene,requested,method,backend,width,height,frames,total_median_ms,total_min_ms,triangles_in,triangles_raster,"
          "raster_work_items,device_bytes,minimum_bytes,film_bytes";
     for (const auto& s : rows[0].stageMedianMs) f << "," << s.first << "_median_ms";
@@ -182,6 +185,8 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
       for (const auto& s : b.stageMedianMs) f << "," << s.second;
       f << "\n";
     }
+    const std::string text = f.str();
+    writeFileAtomically(bo.csv, text.data(), text.size());
   }
   return 0;
 }

@@ -2,11 +2,13 @@
 
 #include "host/image/image_io.h"
 #include "host/image/image_metrics.h"
+#include "host/image/safe_output.h"
 #include "base/error.h"
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <sys/stat.h>
 
 namespace rast {
@@ -69,8 +71,7 @@ int runCompare(const CompareOptions& co) {
 
   // The JSON first: an unwritable path fails before anything is printed.
   if (!co.json.empty()) {
-    std::ofstream f(co.json);
-    if (!f) throw Error("cannot write '" + co.json + "'");
+    std::ostringstream f;  // then written atomically (host/image/safe_output.h)
     f << "{\"reference\": " << jsonString(co.reference) << ", \"test\": " << jsonString(co.test)
       << ", \"width\": " << m.width << ", \"height\": " << m.height << ", \"rmse_linear\": " << num(m.rmseLinear)
       << ", \"psnr_linear_db\": " << num(m.psnrLinear) << ", \"ssim\": " << num(m.ssim)
@@ -79,7 +80,8 @@ int runCompare(const CompareOptions& co) {
       << ", \"frac_gt8\": " << num(m.fracGt8) << ", \"max_channel_diff\": " << m.maxChannelDiff
       << ", \"edge_rmse_linear\": " << num(m.edgeRmseLinear) << ", \"edge_pixels\": " << m.edgePixels
       << ", \"edge_source\": \"" << (m.edgesFromIds ? "ids" : "sobel") << "\"}\n";
-    if (!f) throw Error("cannot write '" + co.json + "'");
+    const std::string text = f.str();
+    writeFileAtomically(co.json, text.data(), text.size());
   }
   std::printf("rast: compare %s (reference) vs %s, %dx%d\n", co.reference.c_str(), co.test.c_str(), wa, ha);
   std::printf("rmse_linear      %.6g\n", m.rmseLinear);

@@ -1,6 +1,7 @@
 #include "app/progress.h"
 
 #include "base/error.h"
+#include "host/image/safe_output.h"
 
 #include <chrono>
 #include <cstdio>
@@ -37,13 +38,20 @@ void checkOutputPath(const std::string& path, const char* what) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (path.empty()) throw Error(std::string(what) + ": empty output path");
+  const std::string shown = printable(path);
   const fs::path p(path);
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
-    throw Error(std::string(what) + ": cannot write '" + path + "': folder '" + dir.string() + "' does not exist");
-  if (fs::is_directory(p, ec)) throw Error(std::string(what) + ": '" + path + "' is a folder");
-  if (fs::exists(p, ec) ? access(path.c_str(), W_OK) != 0 : access(dir.c_str(), W_OK) != 0)
-    throw Error(std::string(what) + ": '" + path + "' is not writable");
+    throw Error(std::string(what) + ": cannot write '" + shown + "': folder '" + printable(dir.string()) +
+                "' does not exist");
+  if (fs::is_directory(p, ec)) throw Error(std::string(what) + ": '" + shown + "' is a folder");
+  const bool exists = fs::exists(p, ec);
+  if (exists && access(path.c_str(), W_OK) != 0) throw Error(std::string(what) + ": '" + shown + "' is not writable");
+  // A regular file is replaced by renaming a temporary file over it
+  // (host/image/safe_output.h): its folder must be writable too.
+  if ((!exists || fs::is_regular_file(p, ec)) && access(dir.c_str(), W_OK) != 0)
+    throw Error(std::string(what) + ": cannot write '" + shown + "': its folder '" + printable(dir.string()) +
+                "' is not writable");
 }
 
 }  // namespace rast

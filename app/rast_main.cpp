@@ -8,6 +8,7 @@
 // Every error ends in one line on stderr and exit status 1.
 #include "backends/stage_timer.h"
 #include "host/image/image_io.h"
+#include "host/image/safe_output.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/gltf_export.h"
 #include "scenes/procedural.h"
@@ -25,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 namespace rast {
@@ -42,13 +44,13 @@ AovRequest parseAovs(const std::vector<std::string>& items) {
     while (std::getline(ss, kv, ',')) {
       const auto eq = kv.find('=');
       if (eq == std::string::npos || eq + 1 == kv.size())
-        throw Error("--aov: expected name=file (depth=d.pfm, primid=ids.bin, normals=n.pfm), got '" + kv + "'");
+        throw Error("--aov: expected name=file (depth=d.pfm, primid=ids.bin, normals=n.pfm), got '" + printable(kv) + "'");
       const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
       if (k == "depth") r.depth = v;
       else if (k == "primid") r.primid = v;
       else if (k == "normals") r.normals = v;
       else if (k == "ao") r.ao = v;
-      else throw Error("--aov: unknown output '" + k + "' (expected depth, primid, normals or ao)");
+      else throw Error("--aov: unknown output '" + printable(k) + "' (expected depth, primid, normals or ao)");
     }
   }
   return r;
@@ -67,11 +69,22 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
   rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
   if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
-  // Every output is checked before the (possibly long) render, not after it.
+  // Every output is checked before the (possibly long) render, not after it:
+  // writable, and neither an input of the run nor another of its outputs.
   checkOutputPath(out, "-o");
-  for (const std::string* a : {&aov.depth, &aov.primid, &aov.normals, &aov.ao})
-    if (!a->empty()) checkOutputPath(*a, "--aov");
+  OutputSet outputs;
+  outputs.addOutput(out, "-o");
+  for (const auto& [file, what] : {std::pair{&aov.depth, "--aov depth"}, std::pair{&aov.primid, "--aov primid"},
+                                   std::pair{&aov.normals, "--aov normals"}, std::pair{&aov.ao, "--aov ao"}})
+    if (!file->empty()) {
+      checkOutputPath(*file, "--aov");
+      outputs.addOutput(*file, what);
+    }
+  if (!so.scene.empty() && so.scene.rfind("builtin:", 0) != 0) outputs.addInput(so.scene, "the scene file");
+  outputs.check();
   const Scene scene = loadSceneArg(so.scene, so.loadOptions());
+  for (const std::string& f : scene.sourceFiles) outputs.addInput(f, "a file the scene reads");
+  outputs.check();
   const Camera cam = so.camera(scene);
   so.applySceneLook(scene, rs, /*still=*/true);
   if (!so.cameraGiven())
@@ -81,50 +94,49 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
   if (progress.active()) r.onPass = [&progress](int done, int total) { progress.update(done, total); };
   const FrameStats st = r.render(cam, rs);
-  // AOVs first, the colour image last: a failed write leaves no partial set of
-  // outputs behind (the files already written are removed).
-  std::vector<std::string> written;
-  try {
-    if (rs.wantDepth) {
-      writePfm(aov.depth, rs.width, rs.height, 1, r.depthBottomUp().data());
-      written.push_back(aov.depth);
-    }
-    if (rs.wantPrimId) {
-      const auto ids = r.primIdsBottomUp();
-      if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
-        std::vector<float> f(ids.begin(), ids.end());
-        writePfm(aov.primid, rs.width, rs.height, 1, f.data());
-      } else {
-        writeIdsBin(aov.primid, rs.width, rs.height, ids);
-      }
-      written.push_back(aov.primid);
-    }
-    if (rs.wantNormals) {
-      const auto n = r.normalsBottomUp();
-      writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
-      written.push_back(aov.normals);
-    }
-    if (!aov.ao.empty()) {
-      writePfm(aov.ao, rs.width, rs.height, 1, r.aoBottomUp().data());
-      written.push_back(aov.ao);
-    }
-    if (rs.post.floatOutput) {
-      const std::vector<float4> film = r.filmBottomUp();
-      std::vector<float> rgb(film.size() * 3);
-      for (size_t i = 0; i < film.size(); ++i) {
-        rgb[3 * i] = film[i].x;
-        rgb[3 * i + 1] = film[i].y;
-        rgb[3 * i + 2] = film[i].z;
-      }
-      writePfm(out, rs.width, rs.height, 3, rgb.data());
+  // Every output goes to a temporary file beside its path first; only when all
+  // are complete are they renamed into place, so a failed write leaves every
+  // file that was there as it was (host/image/safe_output.h).
+  std::vector<std::unique_ptr<AtomicFile>> files;
+  const auto open = [&files](const std::string& path) -> AtomicFile& {
+    files.push_back(std::make_unique<AtomicFile>(path));
+    return *files.back();
+  };
+  if (rs.wantDepth) writePfm(open(aov.depth), rs.width, rs.height, 1, r.depthBottomUp().data());
+  if (rs.wantPrimId) {
+    const auto ids = r.primIdsBottomUp();
+    if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
+      std::vector<float> f(ids.begin(), ids.end());
+      writePfm(open(aov.primid), rs.width, rs.height, 1, f.data());
     } else {
-      writePng(out, rs.width, rs.height, r.colorTopDown());
+      writeIdsBin(open(aov.primid), rs.width, rs.height, ids);
     }
-  } catch (...) {
-    for (const std::string& f : written) std::remove(f.c_str());
-    throw;
   }
-  std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s, aa %s)\n", out.c_str(), rs.width,
+  if (rs.wantNormals) {
+    const auto n = r.normalsBottomUp();
+    writePfm(open(aov.normals), rs.width, rs.height, 3, &n[0].x);
+  }
+  if (!aov.ao.empty()) writePfm(open(aov.ao), rs.width, rs.height, 1, r.aoBottomUp().data());
+  if (rs.post.floatOutput) {
+    // RGB of the RGBA film, a row at a time (no second copy of the frame).
+    const std::vector<float4> film = r.filmBottomUp();
+    AtomicFile& f = open(out);
+    f.write("PF\n" + std::to_string(rs.width) + " " + std::to_string(rs.height) + "\n-1.0\n");
+    std::vector<float> row(size_t(rs.width) * 3);
+    for (size_t y = 0; y < size_t(rs.height); ++y) {
+      for (size_t x = 0; x < size_t(rs.width); ++x) {
+        const float4& p = film[y * size_t(rs.width) + x];
+        row[3 * x] = p.x;
+        row[3 * x + 1] = p.y;
+        row[3 * x + 2] = p.z;
+      }
+      f.write(row.data(), row.size() * sizeof(float));
+    }
+  } else {
+    writePng(open(out), rs.width, rs.height, r.colorTopDown());
+  }
+  for (const auto& f : files) f->commit();
+  std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s, aa %s)\n", printable(out).c_str(), rs.width,
               rs.height, st.trianglesIn, st.rasterTris, toString(st.method), aaName(rs).c_str());
   return 0;
 }
@@ -221,9 +233,15 @@ int run(int argc, char** argv) {
   if (ssaoErr->parsed()) return runSsaoError(ssaoOpts, seo);
   if (exportCmd->parsed()) {
     checkOutputPath(exportOut, "-o");
+    OutputSet outputs;
+    outputs.addOutput(exportOut, "-o");
+    if (exportScene.rfind("builtin:", 0) != 0) outputs.addInput(exportScene, "the scene file");
+    outputs.check();
     const Scene s = loadSceneArg(exportScene);
+    for (const std::string& f : s.sourceFiles) outputs.addInput(f, "a file the scene reads");
+    outputs.check();
     exportGlb(s, exportOut);
-    std::printf("rast: wrote %s (%u triangles); view it with %s\n", exportOut.c_str(), s.triangleCount(),
+    std::printf("rast: wrote %s (%u triangles); view it with %s\n", printable(exportOut).c_str(), s.triangleCount(),
                 defaultCamera(s).flags().c_str());
     return 0;
   }

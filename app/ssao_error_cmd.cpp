@@ -3,9 +3,11 @@
 #include "backends/stage_timer.h"
 #include "host/image/ao_reference.h"
 #include "host/image/image_io.h"
+#include "host/image/safe_output.h"
 #include "pipeline/post/ssao.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
+#include "app/progress.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,6 +45,9 @@ int runSsaoError(const SceneOptions& so, const SsaoErrorOptions& o) {
   if (std::sscanf(o.errorSize.c_str(), "%d%c%d%c", &ew, &x, &eh, &extra) != 3 || x != 'x' || ew < 1 || eh < 1 ||
       ew > 4096 || eh > 4096)
     throw Error("--error-size: expected WxH up to 4096x4096, got '" + o.errorSize + "'");
+  // Outputs checked before the long measurement (written at its end).
+  if (!o.csv.empty()) checkOutputPath(o.csv, "--csv");
+  if (!o.referenceOut.empty()) checkOutputPath(o.referenceOut, "--reference-out");
   const Scene scene = loadSceneArg(so.scene);
   const Camera cam = so.camera(scene);
   so.applySceneLook(scene, rs, /*still=*/false);
@@ -62,10 +67,8 @@ int runSsaoError(const SceneOptions& so, const SsaoErrorOptions& o) {
   if (!o.referenceOut.empty()) writePfm(o.referenceOut, ew, eh, 1, ref.data());
   Renderer rt(scene);
   std::printf("%8s %10s %10s %10s\n", "samples", "ssao_ms", "rmse", "mean_abs");
-  std::ofstream csv;
+  std::ostringstream csv;  // written atomically at the end (host/image/safe_output.h)
   if (!o.csv.empty()) {
-    csv.open(o.csv);
-    if (!csv) throw Error("cannot write '" + o.csv + "'");
     csv << "scene,backend,width,height,error_width,error_height,radius,reference_rays,samples,ssao_median_ms,rmse,mean_abs\n";
   }
   for (int n : counts) {
@@ -95,10 +98,14 @@ int runSsaoError(const SceneOptions& so, const SsaoErrorOptions& o) {
     std::sort(ms.begin(), ms.end());
     const double med = ms.empty() ? 0.0 : ms[ms.size() / 2];
     std::printf("%8d %10.3f %10.4f %10.4f\n", n, med, rmse, mae);
-    if (csv.is_open())
+    if (!o.csv.empty())
       csv << (so.scene.empty() ? "builtin:default" : so.scene) << "," << Exec::name() << "," << rs.width << "," << rs.height
           << "," << ew << "," << eh << "," << radius << "," << o.rays << "," << n << "," << med << "," << rmse << "," << mae
           << "\n";
+  }
+  if (!o.csv.empty()) {
+    const std::string text = csv.str();
+    writeFileAtomically(o.csv, text.data(), text.size());
   }
   return 0;
 }

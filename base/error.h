@@ -4,7 +4,9 @@
 // non-zero, and a library caller catches it.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
+#include <string>
 
 namespace rast {
 
@@ -13,5 +15,16 @@ namespace rast {
 struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Text from outside (a path, a URI, a flag's value) made fit to be echoed in
+// an Error: control characters become '?', and beyond `cap` bytes it is cut,
+// with its length said: "...(N bytes)".
+inline std::string printable(const std::string& s, size_t cap = 200) {
+  std::string out = s.size() > cap ? s.substr(0, cap) : s;
+  for (char& c : out)
+    if ((unsigned char)c < 0x20 || c == 0x7f) c = '?';
+  if (s.size() > cap) out += "...(" + std::to_string(s.size()) + " bytes)";
+  return out;
+}
 
 }  // namespace rast

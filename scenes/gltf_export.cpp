@@ -3,12 +3,15 @@
 // order follows the draws, so primitive ids match rast's.
 #include "scenes/gltf_export.h"
 
+#include "host/image/safe_output.h"
+
 #include <tiny_gltf.h>
 
 #include <stb/stb_image_write.h>
 
 #include <cmath>
 #include <cstring>
+#include <sstream>
 
 namespace rast {
 namespace {
@@ -137,8 +140,11 @@ void exportGlb(const Scene& s, const std::string& path) {
   m.scenes.push_back(scene);
   m.defaultScene = 0;
   tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&m, path, true, true, true, true))
-    throw Error("cannot write '" + path + "'");
+  // Encoded in memory, then written atomically (host/image/safe_output.h).
+  std::ostringstream glb;
+  if (!writer.WriteGltfSceneToStream(&m, glb, true, true)) throw Error("cannot encode '" + printable(path) + "'");
+  const std::string bytes = glb.str();
+  writeFileAtomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace rast

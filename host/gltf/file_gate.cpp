@@ -11,7 +11,9 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 
@@ -35,18 +37,38 @@ std::string oneLine(std::string s) {
 
 // ---------------------------------------------------------------- file and GLB container
 
-std::vector<unsigned char> readWholeFile(const std::string& path) {
+std::vector<unsigned char> readWholeFile(const std::string& path, uint64_t budget) {
+  const std::string shown = printable(path);
   struct stat st;
-  if (::stat(path.c_str(), &st) != 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
-  if (S_ISDIR(st.st_mode)) throw Error("'" + path + "' is a directory, not a glTF file");
-  if (!S_ISREG(st.st_mode)) throw Error("'" + path + "' is not a regular file");
-  if (st.st_size == 0) throw Error("'" + path + "' is empty, not a glTF file");
-  if (uint64_t(st.st_size) > kMaxFileBytes) throw Error("'" + path + "' is larger than 4 GiB");
+  if (::stat(path.c_str(), &st) != 0) throw Error("cannot open '" + shown + "': " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw Error("'" + shown + "' is a directory, not a glTF file");
+  if (!S_ISREG(st.st_mode)) throw Error("'" + shown + "' is not a regular file");
+  if (st.st_size == 0) throw Error("'" + shown + "' is empty, not a glTF file");
+  if (uint64_t(st.st_size) > kMaxFileBytes) throw Error("'" + shown + "' is larger than 4 GiB");
+  // Over the budget: refused before a byte is read.
+  MemoryLedger(budget).check("the file '" + shown + "'", uint64_t(st.st_size));
   std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  if (!f) throw Error("cannot open '" + shown + "': " + std::strerror(errno));
+  // A glTF file is a GLB container or JSON: a look at its first bytes refuses
+  // what is neither (a gigabyte of zeros) before the rest is read.
+  unsigned char head[64];
+  f.read(reinterpret_cast<char*>(head), std::streamsize(std::min<uint64_t>(sizeof head, uint64_t(st.st_size))));
+  const size_t got = size_t(f.gcount());
+  const bool glb = got >= 4 && std::memcmp(head, "glTF", 4) == 0;
+  if (!glb) {
+    size_t i = got >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF ? 3 : 0;  // UTF-8 BOM
+    while (i < got && (head[i] == ' ' || head[i] == '\t' || head[i] == '\n' || head[i] == '\r')) ++i;
+    if (i < got && (head[i] == 0 || !std::strchr("{[\"-0123456789tfn", head[i]))) {  // no JSON value starts so
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", unsigned(head[i]));
+      throw Error("invalid JSON at byte " + std::to_string(i + 1) + ": a glTF file is a JSON object or a GLB container, "
+                  "and no JSON value starts with byte " + hex);
+    }
+  }
   std::vector<unsigned char> bytes(size_t(st.st_size));
-  f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
-  if (size_t(f.gcount()) != bytes.size()) throw Error("cannot read '" + path + "'");
+  std::memcpy(bytes.data(), head, got);
+  f.read(reinterpret_cast<char*>(bytes.data() + got), std::streamsize(bytes.size() - got));
+  if (got + size_t(f.gcount()) != bytes.size()) throw Error("cannot read '" + shown + "': shorter than its size");
   return bytes;
 }
 
@@ -59,7 +81,9 @@ std::string expandPathForTinygltf(const std::string& path, void*) { return path;
 bool readFileForTinygltf(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   LoadContext& ctx = *static_cast<LoadContext*>(user);
   try {
-    *out = UriResolver::read(ctx.resolver.resolveJoined(path), &ctx.ledger);
+    const std::string resolved = ctx.resolver.resolveJoined(path);
+    *out = UriResolver::read(resolved, &ctx.ledger);
+    ctx.filesRead.push_back(resolved);
     return true;
   } catch (const Error& e) {
     if (ctx.fatal.empty() && (dynamic_cast<const ExternalFileRefused*>(&e) || dynamic_cast<const BudgetExceeded*>(&e)))

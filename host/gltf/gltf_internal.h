@@ -37,6 +37,8 @@ struct LoadContext {
   // The first refusal (outside the folder, over the budget) met inside a
   // tinygltf callback: tinygltf only warns when an image cannot be read.
   std::string fatal;
+  // The resolved path of every external file read (Scene::sourceFiles).
+  std::vector<std::string> filesRead;
 };
 
 // Makes a message printable on one line: control characters become spaces.
@@ -44,7 +46,9 @@ std::string oneLine(std::string s);
 
 // ---------------------------------------------------------------- file_gate.cpp
 
-std::vector<unsigned char> readWholeFile(const std::string& path);
+// The scene file, whole; refused before reading when it is larger than
+// `budget` or does not start like a glTF file.
+std::vector<unsigned char> readWholeFile(const std::string& path, uint64_t budget);
 
 // tinygltf's file callbacks for external buffers and images (`user` is the
 // LoadContext): every path goes through the scene's UriResolver.
@@ -65,7 +69,8 @@ GlbLayout checkGlb(const std::vector<unsigned char>& b);
 
 // The JSON text of the file, its nesting depth checked first; throws Error for
 // invalid JSON or a root that is not an object.
-nlohmann::json parseJson(const char* s, size_t n);
+// Its parsed size (256 bytes a value) is charged to `ledger` first.
+nlohmann::json parseJson(const char* s, size_t n, MemoryLedger& ledger);
 
 // What tinygltf leaves unchecked or reports unclearly, checked on the JSON.
 void checkDocument(const nlohmann::json& j, LoadContext& ctx);

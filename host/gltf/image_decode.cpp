@@ -4,27 +4,86 @@
 // 100000x100000 texels) is refused before memory is allocated for it: per side,
 // and in total against the load's memory budget. When stb_image fails, its own
 // reason is reported (tinygltf says "Unknown image format" whatever went
-// wrong). The conversion then checks what tinygltf produced (size, channels,
-// bit depth), the texture's image and sampler indices and its wrap modes.
+// wrong). Only PNG and JPEG are decoded, recognised by their signatures, and
+// only when their stream is complete (IEND; EOI after the last scan). The
+// conversion then checks what tinygltf produced (size, channels, bit depth),
+// the texture's image and sampler indices and its wrap modes.
 #include "host/gltf/gltf_internal.h"
 
 #include <stb/stb_image.h>
+
+#include <cstring>
 
 namespace rast::gltf_detail {
 namespace {
 
 constexpr int kMaxTextureSide = 16384;  // same limit as the image size
 
+bool startsWith(const unsigned char* b, size_t n, const char* sig, size_t len) {
+  return n >= len && std::memcmp(b, sig, len) == 0;
+}
+
+// What the bytes are, by signature. glTF 2.0 allows PNG and JPEG (WebP and
+// KTX2 by extensions rast does not implement); stb_image would also decode
+// PNM, PSD, BMP, GIF, HDR, TGA and PIC, and its PNM reader ignores a short
+// read (uninitialised texels), so nothing else reaches it.
+const char* otherFormat(const unsigned char* b, size_t n) {
+  if (startsWith(b, n, "RIFF", 4) && n >= 12 && std::memcmp(b + 8, "WEBP", 4) == 0)
+    return "WebP (EXT_texture_webp, which rast does not support)";
+  if (startsWith(b, n, "\xABKTX 20\xBB\r\n\x1A\n", 12)) return "KTX2 (KHR_texture_basisu, which rast does not support)";
+  if (n >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '7') return "PNM";
+  if (startsWith(b, n, "8BPS", 4)) return "PSD";
+  if (startsWith(b, n, "BM", 2)) return "BMP";
+  if (startsWith(b, n, "GIF8", 4)) return "GIF";
+  if (startsWith(b, n, "#?RADIANCE", 10) || startsWith(b, n, "#?RGBE", 6)) return "Radiance HDR";
+  return nullptr;
+}
+
+// Why complete-looking PNG/JPEG bytes are not complete, or "" when they are:
+// a truncated file decodes without complaint in parts of stb_image (JPEG pads
+// missing entropy data with zeros), so the end of the stream must be there.
+std::string truncation(const unsigned char* b, size_t n, bool png) {
+  if (png) {
+    // The IEND chunk (length 0, type IEND) ends every complete PNG.
+    static const unsigned char iend[8] = {0, 0, 0, 0, 'I', 'E', 'N', 'D'};
+    for (size_t i = n >= 12 ? n - 12 + 1 : 0; i-- > 8;)
+      if (std::memcmp(b + i, iend, 8) == 0) return "";
+    return "truncated PNG: no IEND chunk";
+  }
+  // JPEG: an EOI marker (FF D9) after the last start of scan (FF DA).
+  size_t sos = 0;
+  for (size_t i = 2; i + 1 < n; ++i)
+    if (b[i] == 0xFF && b[i + 1] == 0xDA) sos = i;
+  if (sos == 0) return "truncated JPEG: no scan data";
+  for (size_t i = sos + 2; i + 1 < n; ++i)
+    if (b[i] == 0xFF && b[i + 1] == 0xD9) return "";
+  return "truncated JPEG: no end-of-image marker after the last scan";
+}
+
 }  // namespace
 
 // tinygltf's image decoder (stb_image), after a look at the header so that an
 // absurd image size is refused before anything is allocated for it: per side,
-// and in total against the memory budget (the decoded pixels, tinygltf's copy
-// of them, and the texture built from them).
+// and in total against the memory budget (stb's working buffers, the decoded
+// pixels, tinygltf's copy of them, and the texture built from them).
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int reqWidth,
                       int reqHeight, const unsigned char* bytes, int size, void* user) {
   LoadContext& ctx = *static_cast<LoadContext*>(user);
   const std::string at = "image " + std::to_string(index);
+  const auto refuse = [&](const std::string& why) {
+    const std::string m = at + ": " + why;
+    if (ctx.fatal.empty()) ctx.fatal = m;
+    if (err) *err += m;
+    return false;
+  };
+  const size_t n = size > 0 ? size_t(size) : 0;
+  const bool png = startsWith(bytes, n, "\x89PNG\r\n\x1a\n", 8), jpeg = n >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+  if (n == 0) return refuse("no image data (0 bytes)");
+  if (!png && !jpeg) {
+    const char* other = otherFormat(bytes, n);
+    return refuse(other ? std::string("is ") + other + ", not PNG or JPEG, the image formats glTF allows"
+                        : std::string("is not a PNG or JPEG image (the image formats glTF allows)"));
+  }
   int w = 0, h = 0, comp = 0;
   // When stb cannot read the header, its decoder fails at the header too (and
   // says why more precisely than the header probe, which tries every format).
@@ -40,7 +99,9 @@ bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err,
     const uint64_t decoded = mulSat(mulSat(uint64_t(w), uint64_t(h)), stbi_is_16_bit_from_memory(bytes, size) ? 8 : 4);
     const std::string what = at + " (" + std::to_string(w) + "x" + std::to_string(h) + " texels, decoded)";
     try {
-      ctx.ledger.check(what, 2 * decoded);
+      // While decoding: stb's inflated (PNG) or per-component (JPEG) buffers,
+      // its output, and tinygltf's copy of it, which stays.
+      ctx.ledger.check(what, 3 * decoded);
       ctx.ledger.charge(what, decoded);
     } catch (const Error& e) {
       if (ctx.fatal.empty()) ctx.fatal = e.what();
@@ -48,8 +109,15 @@ bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err,
       return false;
     }
   }
-  std::string decodeErr;
-  if (tinygltf::LoadImageData(image, index, &decodeErr, warn, reqWidth, reqHeight, bytes, size, nullptr)) return true;
+  std::string decodeErr, decodeWarn;
+  if (tinygltf::LoadImageData(image, index, &decodeErr, &decodeWarn, reqWidth, reqHeight, bytes, size, nullptr)) {
+    (void)warn;
+    if (!decodeWarn.empty()) return refuse("cannot decode: " + oneLine(decodeWarn));  // a warning is an error here
+    // Decoded, but from a stream without its end: stb_image fills what is
+    // missing in some cases instead of failing.
+    const std::string cut = truncation(bytes, n, png);
+    return cut.empty() ? true : refuse(cut);
+  }
   // tinygltf says "Unknown image format" whatever went wrong; stb knows why.
   const char* why = stbi_failure_reason();
   if (err) *err += at + ": cannot decode (stb_image: " + std::string(why ? why : "unknown reason") + ")";

@@ -430,10 +430,14 @@ class Loader {
 
   // Decodes a texture once, however many materials use it.
   int32_t texture(int ti) {
-    auto it = texCache_.find(ti);
+    // Textures of the same image and sampler share one decoded Texture (and
+    // one charge to the budget), whichever texture index names them.
+    std::pair<int, int> key{ti, -1};
+    if (ti >= 0 && size_t(ti) < m_.textures.size()) key = {m_.textures[ti].source, m_.textures[ti].sampler};
+    auto it = texCache_.find(key);
     if (it != texCache_.end()) return it->second;
     s_.textures.push_back(decodeTexture(m_, ti, ctx_.ledger));
-    return texCache_[ti] = int32_t(s_.textures.size() - 1);
+    return texCache_[key] = int32_t(s_.textures.size() - 1);
   }
 
   const tinygltf::Model& m_;
@@ -443,11 +447,11 @@ class Loader {
   std::vector<char> state_;  // per node: 0 not seen, 1 on the current path, 2 done
   std::map<int, std::vector<uint32_t>> meshCache_;
   std::map<int, LoadedMaterial> matCache_;
-  std::map<int, int32_t> texCache_;
+  std::map<std::pair<int, int>, int32_t> texCache_;  // (image, sampler) -> scene texture
 };
 
 Scene loadChecked(const std::string& path, const LoadOptions& options) {
-  const std::vector<unsigned char> bytes = readWholeFile(path);
+  const std::vector<unsigned char> bytes = readWholeFile(path, options.maxMemory ? options.maxMemory : defaultMemoryBudget());
   LoadContext ctx(path, options);
   ctx.ledger.charge("the file", bytes.size());
   ctx.zeroElementsLeft = std::max(kMinZeroElements, mulSat(bytes.size(), kZeroElementsPerFileByte));
@@ -458,7 +462,7 @@ Scene loadChecked(const std::string& path, const LoadOptions& options) {
   if (binary) glb = checkGlb(bytes);
   const char* json = reinterpret_cast<const char*>(bytes.data()) + (binary ? glb.jsonOffset : 0);
   const size_t jsonLength = binary ? glb.jsonLength : bytes.size();
-  checkDocument(parseJson(json, jsonLength), ctx);
+  checkDocument(parseJson(json, jsonLength, ctx.ledger), ctx);
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(loadImageChecked, &ctx);
@@ -484,6 +488,8 @@ Scene loadChecked(const std::string& path, const LoadOptions& options) {
     throw Error("glTF version '" + model.asset.version + "' is not 2.x");
   Scene s;
   s.name = path;
+  s.sourceFiles.push_back(path);
+  s.sourceFiles.insert(s.sourceFiles.end(), ctx.filesRead.begin(), ctx.filesRead.end());
   Loader(model, s, ctx).run();
   s.validate();
   return s;

@@ -45,6 +45,9 @@ class UriResolver {
 
   // %XX decoding exactly as tinygltf's (which also turns '+' into a space).
   static std::string percentDecode(const std::string& uri);
+  // Throws Error for a '%' not followed by two hex digits (tinygltf decodes
+  // "%zz" to a NUL byte) and for %00.
+  static void checkEscapes(const std::string& uri);
 
  private:
   std::string resolveDecoded(const std::string& decoded, const std::string& shown) const;

@@ -1,11 +1,10 @@
 #include "host/image/image_io.h"
 
+#include "host/image/safe_output.h"
 #include "host/scene/scene.h"
 
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
-
-#include <sys/stat.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -14,62 +13,8 @@
 #include <sstream>
 
 namespace rast {
-namespace {
 
-// An output file whose every write is checked, including the final flush and
-// close where a full disk shows up. A file not committed (an error, an
-// exception) is removed, so no partial image is left behind; only regular
-// files are removed (never /dev/stdout or a device).
-class OutFile {
- public:
-  explicit OutFile(const std::string& path) : path_(path), f_(std::fopen(path.c_str(), "wb")) {
-    if (!f_) fail(errno);
-  }
-  OutFile(const OutFile&) = delete;
-  OutFile& operator=(const OutFile&) = delete;
-  ~OutFile() {
-    if (f_) discard();
-  }
-
-  void write(const void* p, size_t n) {
-    if (n && std::fwrite(p, 1, n, f_) != n) fail(errno);
-  }
-  void write(const std::string& s) { write(s.data(), s.size()); }
-
-  void commit() {
-    const bool flushed = std::fflush(f_) == 0;
-    const int err = errno;
-    FILE* f = f_;
-    f_ = nullptr;
-    const bool closed = std::fclose(f) == 0;
-    if (!flushed || !closed) {
-      removeIfRegular();
-      throw Error("cannot write '" + path_ + "': " + std::strerror(flushed ? errno : err));
-    }
-  }
-
- private:
-  [[noreturn]] void fail(int err) {
-    if (f_) discard();
-    throw Error("cannot write '" + path_ + "': " + std::strerror(err));
-  }
-  void discard() {
-    std::fclose(f_);
-    f_ = nullptr;
-    removeIfRegular();
-  }
-  void removeIfRegular() const {
-    struct stat st;
-    if (::stat(path_.c_str(), &st) == 0 && S_ISREG(st.st_mode)) std::remove(path_.c_str());
-  }
-
-  std::string path_;
-  FILE* f_;
-};
-
-}  // namespace
-
-void writePng(const std::string& path, int w, int h, const std::vector<uint32_t>& rgba) {
+void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba) {
   // Opaque images are written as RGB, like glref's.
   std::vector<unsigned char> rgb(size_t(w) * h * 3);
   for (size_t i = 0; i < size_t(w) * h; ++i) {
@@ -85,23 +30,35 @@ void writePng(const std::string& path, int w, int h, const std::vector<uint32_t>
     out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
   };
   if (!stbi_write_png_to_func(append, &png, w, h, 3, rgb.data(), w * 3) || png.empty())
-    throw Error("cannot encode the PNG for '" + path + "'");
-  OutFile f(path);
+    throw Error("cannot encode the PNG for '" + printable(f.path()) + "'");
   f.write(png.data(), png.size());
+}
+
+void writePfm(AtomicFile& f, int w, int h, int channels, const float* data) {
+  f.write(std::string(channels == 3 ? "PF" : "Pf") + "\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n");
+  f.write(data, sizeof(float) * size_t(w) * h * channels);
+}
+
+void writeIdsBin(AtomicFile& f, int w, int h, const std::vector<uint32_t>& idsBottomUp) {
+  f.write("glref-ids " + std::to_string(w) + " " + std::to_string(h) + " u32le top-down\n");
+  for (int y = h - 1; y >= 0; --y) f.write(idsBottomUp.data() + size_t(y) * w, sizeof(uint32_t) * size_t(w));
+}
+
+void writePng(const std::string& path, int w, int h, const std::vector<uint32_t>& rgba) {
+  AtomicFile f(path);
+  writePng(f, w, h, rgba);
   f.commit();
 }
 
 void writePfm(const std::string& path, int w, int h, int channels, const float* data) {
-  OutFile f(path);
-  f.write(std::string(channels == 3 ? "PF" : "Pf") + "\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n");
-  f.write(data, sizeof(float) * size_t(w) * h * channels);
+  AtomicFile f(path);
+  writePfm(f, w, h, channels, data);
   f.commit();
 }
 
 void writeIdsBin(const std::string& path, int w, int h, const std::vector<uint32_t>& idsBottomUp) {
-  OutFile f(path);
-  f.write("glref-ids " + std::to_string(w) + " " + std::to_string(h) + " u32le top-down\n");
-  for (int y = h - 1; y >= 0; --y) f.write(idsBottomUp.data() + size_t(y) * w, sizeof(uint32_t) * size_t(w));
+  AtomicFile f(path);
+  writeIdsBin(f, w, h, idsBottomUp);
   f.commit();
 }
 

@@ -1,5 +1,7 @@
 // Image files: PNG through stb_image_write, PFM for float AOVs, and glref's
 // binary primitive-id format so that ../shared/tools/glref/ids_tool.py reads ours.
+// Every writer writes atomically (host/image/safe_output.h): the file at the
+// path is replaced only by a complete one.
 #pragma once
 
 #include <cstdint>
@@ -8,7 +10,15 @@
 
 namespace rast {
 
-// rgba: R in the low byte, top row first.
+class AtomicFile;
+
+// Into an open AtomicFile, which the caller commits (several outputs of one
+// run are all written before any is renamed into place).
+void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba);
+void writePfm(AtomicFile& f, int w, int h, int channels, const float* data);
+void writeIdsBin(AtomicFile& f, int w, int h, const std::vector<uint32_t>& idsBottomUp);
+
+// Each to its own file, committed. rgba: R in the low byte, top row first.
 void writePng(const std::string& path, int w, int h, const std::vector<uint32_t>& rgba);
 // Greyscale (channels 1) or colour (3) PFM; data bottom row first, as PFM stores it.
 void writePfm(const std::string& path, int w, int h, int channels, const float* data);

@@ -112,6 +112,9 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<FileCamera> cameras;  // a glTF file's cameras, by node (--camera N|NAME)
   FileFacts facts;
+  // Every file the scene was read from: the scene file and, resolved, each
+  // external buffer and image. Outputs must not be any of them (app/).
+  std::vector<std::string> sourceFiles;
 
   uint32_t triangleCount() const;  // drawn triangles, each instance counted
   uint64_t lineCount() const;      // drawn line segments

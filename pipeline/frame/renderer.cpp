@@ -44,6 +44,17 @@ uint64_t rasterTriBytes(uint64_t n) { return mulSat(n, sizeof(RasterTri) + 5 * s
 // What the device scene, the raster triangles of a first frame and the
 // vertex-stage buffers will take, checked before any of it is allocated: a
 // small file can draw one large mesh from many nodes.
+// The host Scene's own arrays (the caller keeps it while rendering).
+uint64_t hostSceneBytes(const Scene& s) {
+  uint64_t b = mulSat(s.positions.size() + s.normals.size(), sizeof(float3));
+  b = addSat(b, mulSat(s.uvs.size(), sizeof(float2)));
+  b = addSat(b, mulSat(s.colors.size(), sizeof(float4)));
+  b = addSat(b, mulSat(s.indices.size() + s.lineIndices.size() + s.pointIndices.size(), sizeof(uint32_t)));
+  b = addSat(b, mulSat(s.draws.size(), sizeof(Draw)));
+  for (const Texture& t : s.textures) b = addSat(b, mulSat(t.rgba.size(), sizeof(uint32_t)));
+  return b;
+}
+
 const Scene& admitScene(const Scene& s, uint64_t budget) {
   uint64_t texels = 0;
   for (const Texture& t : s.textures) texels = addSat(texels, mulSat(uint64_t(t.width), uint64_t(t.height)));
@@ -56,6 +67,7 @@ const Scene& admitScene(const Scene& s, uint64_t budget) {
   if (drawTables(s.draws.size()))  // triDraw, vertDraw (with a host copy each while uploading)
     sceneBytes = addSat(sceneBytes, mulSat(addSat(s.triangleCount(), drawnVertices(s)), 2 * sizeof(DrawIndex)));
   MemoryLedger ledger(budget);
+  ledger.charge("the scene in host memory", hostSceneBytes(s));
   ledger.charge("the scene on the device (" + std::to_string(s.positions.size()) + " vertices, " +
                     std::to_string(s.indices.size() / 3) + " triangles, " + std::to_string(texels) + " texels)",
                 sceneBytes);
@@ -70,6 +82,7 @@ const Scene& admitScene(const Scene& s, uint64_t budget) {
 
 Renderer::Renderer(const Scene& scene, uint64_t memoryBudget)
     : budget_(memoryBudget ? memoryBudget : defaultMemoryBudget()),
+      hostSceneBytes_(hostSceneBytes(scene)),
       perVertexBytes_(sizeof(float4) + sizeof(SnapVert) + 2 * sizeof(float3)),
       scene_(DeviceScene::upload(admitScene(scene, budget_))),
       hostTextures_(scene.textures),
@@ -88,18 +101,27 @@ RasterMethod Renderer::resolveMethod(const RenderSettings& rs) const { return ch
 
 void Renderer::checkFrameBudget(const RenderSettings& rs) const {
   const uint64_t n = uint64_t(rs.width) * uint64_t(rs.height);
-  const int msaa = rs.ssaa > 1 || rs.reference ? 1 : rs.msaa;
+  const bool super = rs.ssaa > 1 || rs.reference;
+  const int msaa = super ? 1 : rs.msaa;
   uint64_t perPixel = 8 * uint64_t(msaa) + 4;                      // visibility keys, colour
   if (rs.wantDepth) perPixel += 4;
   if (rs.wantPrimId) perPixel += 4;
   if (rs.wantNormals) perPixel += 12;
-  if (rs.ssaa > 1 || rs.reference) perPixel += sizeof(float4);     // supersampling accumulator
-  const uint64_t frame = mulSat(n, perPixel);
-  // Held besides the frame: the scene, the raster triangles and per-vertex buffers.
+  if (super) perPixel += sizeof(float4);                           // supersampling accumulator
+  if (super || rs.post.needsFloat()) perPixel += sizeof(float4);   // the float film
+  if (rs.post.ssao) perPixel += sizeof(float4) + 3 * sizeof(float);  // geometry, depth, AO and its blur
+  uint64_t frame = mulSat(n, perPixel);
+  // Bloom: two half-resolution float films.
+  if (rs.post.bloom) frame = addSat(frame, mulSat(uint64_t(rs.width / 2 + 1) * uint64_t(rs.height / 2 + 1), 2 * sizeof(float4)));
+  // Held besides the frame: the scene (here and in the caller's host Scene),
+  // the raster triangles and per-vertex buffers; and, when the frame is done,
+  // the host copies its outputs are written from (one output at a time, the
+  // largest: a float film of 16 bytes a pixel).
   const uint64_t held = scene_.bytes() + viewBytes(frame_.tris) + viewBytes(frame_.counters) +
-                        mulSat(scene_.numVerts, perVertexBytes_);
+                        mulSat(scene_.numVerts, perVertexBytes_) + hostSceneBytes_;
   MemoryLedger ledger(budget_);
   ledger.charge("the scene and its triangle buffers", held);
+  ledger.charge("the host copy of an output image", mulSat(n, sizeof(float4)));
   ledger.check("a " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " framebuffer with " +
                    std::to_string(msaa) + (msaa == 1 ? " sample" : " samples") + " per pixel",
                frame);

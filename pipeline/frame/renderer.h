@@ -94,6 +94,8 @@ class Renderer {
   void checkFrameBudget(const RenderSettings& rs) const;
 
   uint64_t budget_;  // before scene_: the upload is checked against it
+  // The caller's host Scene, alive while it renders: on the same budget.
+  uint64_t hostSceneBytes_ = 0;
   uint64_t perVertexBytes_ = 0;  // vertex-stage buffers, per drawn vertex (worst case)
   DeviceScene scene_;
   std::vector<Texture> hostTextures_;  // kept to build mipmaps when first needed

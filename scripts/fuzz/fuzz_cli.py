@@ -35,7 +35,10 @@ work = os.path.join(args.out, "work")
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 INTERESTING = [b"0", b"-1", b"1e38", b"-1e38", b"1e-38", b"4294967295", b"2147483648", b"16777216", b"65536",
-               b"NaN", b"null", b"[]", b"{}", b'""', b'"../a.png"', b'"/etc/passwd"', b"5", b"6", b"3.5"]
+               b"NaN", b"null", b"[]", b"{}", b'""', b'"../a.png"', b'"/etc/passwd"', b"5", b"6", b"3.5",
+               # issue 38: escapes, the folder itself, special files, data: URIs of the wrong length
+               b'"%zz"', b'"a%00b"', b'"."', b'"/proc/self/environ"', b'"data:application/octet-stream;base64,AAAA"',
+               b'"data:image/png;base64,UDYKNjQgNjQKMjU1Cg=="']
 
 
 def mutate_json(data):
@@ -95,6 +98,8 @@ def random_flags():
         f += ["--aov", "depth=" + os.path.join(work, "d.pfm") + ",primid=" + os.path.join(work, "i.bin")]
     if rng.random() < 0.2:
         f += ["--max-memory", rng.choice(["1M", "64M", "1G"])]
+    if rng.random() < 0.05:  # issue 38: validated before Kokkos sees them
+        f += [rng.choice(["--kokkos-threads=0", "--kokkos-threads=1", "--kokkos-threads=100000", "--kokkos-threads=-1"])]
     return f
 
 
@@ -121,7 +126,12 @@ while time.time() < deadline:
             if not os.path.exists(dst):
                 shutil.copy(p, dst)
     out_png = os.path.join(work, "out.png")
-    cmd = [args.rast, "render", scene, "-o", out_png] + random_flags()
+    # Now and then an output that is an input or another output (issue 38):
+    # it must be refused, and the input must be unchanged afterwards.
+    target = out_png if rng.random() < 0.9 else rng.choice([scene, os.path.join(work, "a.bin"), os.path.join(work, "a.png")])
+    cmd = [args.rast, "render", scene, "-o", target] + random_flags()
+    inputs = {p: open(p, "rb").read() for p in [scene, os.path.join(work, "a.bin"), os.path.join(work, "a.png")]
+              if os.path.isfile(p)}
     execs += 1
     try:
         r = subprocess.run(cmd, capture_output=True, timeout=60)
@@ -142,6 +152,11 @@ while time.time() < deadline:
         error_runs += 1
     else:
         bad = f"exit {rc} with {len(lines)} stderr lines"
+    for p, before in inputs.items():
+        if not bad and (not os.path.isfile(p) or open(p, "rb").read() != before):
+            bad = f"input {os.path.basename(p)} overwritten"
+    if not bad and any(".rast-" in f for f in os.listdir(work)):
+        bad = "temporary output file left behind"
     if bad:
         findings += 1
         d = os.path.join(args.out, f"finding-{findings:03d}")

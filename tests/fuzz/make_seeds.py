@@ -110,8 +110,40 @@ glb("textured.glb", {
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
                     {"buffer": 0, "byteOffset": 60, "byteLength": len(png)}],
     "accessors": [pos, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]}, b)
-# 8. cameras placed by nodes (perspective, orthographic), a light, and a
-#    base-colour texture transform with a texCoord override (#37)
+
+
+def glb_image(name, image):
+    """A GLB whose texture is `image` in a bufferView (formats and truncation, issue 38)."""
+    b = TRI + struct.pack("<6f", 0, 0, 1, 0, 0, 1) + image
+    b += b"\0" * (-len(b) % 4)
+    glb(name, {
+        "asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}], "images": [{"bufferView": 2, "mimeType": "image/png"}],
+        "buffers": [{"byteLength": len(b)}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                        {"buffer": 0, "byteOffset": 60, "byteLength": len(image)}],
+        "accessors": [pos, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]}, b)
+
+
+# 8. images glTF does not allow, and cut ones: a PNM header without pixels,
+#    a PSD header, a PNG without its IEND, a JPEG without its end (issue 38)
+glb_image("image_pnm.glb", b"P6\n64 64\n255\n")
+glb_image("image_psd.glb", b"8BPS\x00\x01" + bytes(6) + b"\x00\x03" + struct.pack(">II", 64, 64) + b"\x00\x08\x00\x03")
+glb_image("image_png_cut.glb", png[:-12])
+glb_image("image_jpeg_cut.glb", b"\xff\xd8\xff\xe0\x00\x10JFIF\x00\x01\x01\x00\x00\x01\x00\x01\x00\x00\xff\xda\x00\x08")
+# 9. a data: buffer whose byteLength is wrong, and URIs with a bad escape and
+#    naming the folder itself
+save("datauri_length.gltf", doc([{"attributes": {"POSITION": 0}}], {"byteLength": 40, "uri": data_uri(TRI)},
+                                [{"buffer": 0, "byteLength": 36}], [pos]))
+d = doc([{"attributes": {"POSITION": 0}}], {"byteLength": 36, "uri": "%zz.bin"}, [{"buffer": 0, "byteLength": 36}], [pos])
+d["buffers"].append({"byteLength": 4, "uri": "."})
+d["images"] = [{"uri": "a%zzb.png"}]
+save("uri_escapes.gltf", d)
+# 10. cameras placed by nodes (perspective, orthographic), a light, and a
+#     base-colour texture transform with a texCoord override (#37)
 c = json.load(open(os.path.join(out, "textured.gltf")))
 c["nodes"] += [{"camera": 0, "translation": [0, 0, 4]}, {"camera": 1, "rotation": [0.7071, 0, 0, 0.7071]},
                {"extensions": {"KHR_lights_punctual": {"light": 0}}}]

@@ -123,3 +123,51 @@ def far_triangle(folder, scale):
     with open(p, "wb") as f:
         f.write(_gltf(doc))
     return p
+
+
+def triangle_scene(folder, name, image_uris=(), buffer_uri=None, byte_length=None, image_refs=None):
+    """One triangle with texture coordinates. Its buffer is written beside the
+    scene as `buffer_uri` (a data: URI when None; `byte_length` overrides the
+    declared byteLength); each entry of `image_uris` is one glTF image, and the
+    material uses image 0 (`image_refs`: the images the textures name, one
+    material per texture, all drawn)."""
+    pos = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    uv = struct.pack("<6f", 0, 0, 1, 0, 0, 1)
+    data = pos + uv
+    if buffer_uri is None:
+        buf = {"byteLength": len(data) if byte_length is None else byte_length,
+               "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}
+    else:
+        buf = {"byteLength": len(data) if byte_length is None else byte_length, "uri": buffer_uri}
+        if "%" not in buffer_uri and not buffer_uri.startswith("/") and buffer_uri != ".":
+            with open(os.path.join(folder, buffer_uri), "wb") as f:
+                f.write(data)
+    refs = list(image_refs) if image_refs is not None else ([0] if image_uris else [])
+    doc = {
+        "asset": {"version": "2.0"},
+        "scenes": [{"nodes": list(range(max(1, len(refs))))}],
+        "nodes": [{"mesh": i} for i in range(max(1, len(refs)))],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": i}]}
+                   for i in range(max(1, len(refs)))],
+        "buffers": [buf],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
+    }
+    if refs:
+        doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": i}}} for i in range(len(refs))]
+        doc["textures"] = [{"source": r} for r in refs]
+        doc["images"] = [{"uri": u} for u in image_uris]
+    else:
+        doc["meshes"][0]["primitives"][0].pop("material")
+    p = os.path.join(folder, name)
+    with open(p, "wb") as f:
+        f.write(_gltf(doc))
+    return p
+
+
+def png(width, height):
+    """A valid RGBA8 PNG of zeros (see _png)."""
+    return _png(width, height)
