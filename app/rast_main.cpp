@@ -53,6 +53,9 @@ AovRequest parseAovs(const std::vector<std::string>& items) {
   return r;
 }
 
+// AOVs named *.npy are written as NumPy arrays, top row first (host/image/image_io.h).
+bool isNpy(const std::string& f) { return f.size() > 4 && (f.compare(f.size() - 4, 4, ".npy") == 0 || f.compare(f.size() - 4, 4, ".NPY") == 0); }
+
 int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<std::string>& aovItems) {
   RenderSettings rs = so.settings();
   const AovRequest aov = parseAovs(aovItems);
@@ -83,12 +86,15 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   std::vector<std::string> written;
   try {
     if (rs.wantDepth) {
-      writePfm(aov.depth, rs.width, rs.height, 1, r.depthBottomUp().data());
+      if (isNpy(aov.depth)) writeNpy(aov.depth, rs.width, rs.height, 1, "<f4", r.depthBottomUp().data());
+      else writePfm(aov.depth, rs.width, rs.height, 1, r.depthBottomUp().data());
       written.push_back(aov.depth);
     }
     if (rs.wantPrimId) {
       const auto ids = r.primIdsBottomUp();
-      if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
+      if (isNpy(aov.primid)) {
+        writeNpy(aov.primid, rs.width, rs.height, 1, "<u4", ids.data());
+      } else if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
         std::vector<float> f(ids.begin(), ids.end());
         writePfm(aov.primid, rs.width, rs.height, 1, f.data());
       } else {
@@ -98,11 +104,13 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
     }
     if (rs.wantNormals) {
       const auto n = r.normalsBottomUp();
-      writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
+      if (isNpy(aov.normals)) writeNpy(aov.normals, rs.width, rs.height, 3, "<f4", &n[0].x);
+      else writePfm(aov.normals, rs.width, rs.height, 3, &n[0].x);
       written.push_back(aov.normals);
     }
     if (!aov.ao.empty()) {
-      writePfm(aov.ao, rs.width, rs.height, 1, r.aoBottomUp().data());
+      if (isNpy(aov.ao)) writeNpy(aov.ao, rs.width, rs.height, 1, "<f4", r.aoBottomUp().data());
+      else writePfm(aov.ao, rs.width, rs.height, 1, r.aoBottomUp().data());
       written.push_back(aov.ao);
     }
     if (rs.post.floatOutput) {
@@ -162,7 +170,7 @@ int run(int argc, char** argv) {
   renderOpts.addTo(*render);
   render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
       ->capture_default_str();
-  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao)");
+  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first)");
 
   SceneOptions benchOpts;
   BenchOptions bo;
