@@ -64,7 +64,7 @@ lib::Scene sceneFromArrays(py::handle pos, py::handle idx, py::handle nrm, py::h
 
 py::dict render(const lib::Scene& scene, const lib::Camera& cam, int width, int height, const std::string& shading,
                 const std::string& cull, const std::string& filter, const std::string& raster, const std::string& aa,
-                std::optional<std::array<float, 3>> background, bool normals) {
+                std::optional<std::array<float, 3>> background, bool normals, bool barycentrics) {
   lib::Settings s;
   s.width = width;
   s.height = height;
@@ -75,6 +75,7 @@ py::dict render(const lib::Scene& scene, const lib::Camera& cam, int width, int 
   s.aa = aa;
   s.background = background;
   s.normals = normals;
+  s.barycentrics = barycentrics;
   lib::Renderer r(scene);
   lib::Frame f;
   {
@@ -105,6 +106,12 @@ py::dict render(const lib::Scene& scene, const lib::Camera& cam, int width, int 
     const auto fn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.normals);
     for (size_t y = 0; y < h; ++y) std::memcpy(n.mutable_data(y), &fn(h - 1 - y, 0, 0), w * 3 * sizeof(float));
     out["normals"] = n;
+  }
+  if (barycentrics) {
+    py::array_t<float> b({h, w, size_t(3)});
+    const auto fb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.barycentrics);
+    for (size_t y = 0; y < h; ++y) std::memcpy(b.mutable_data(y), &fb(h - 1 - y, 0, 0), w * 3 * sizeof(float));
+    out["barycentrics"] = b;
   }
   out["triangles"] = f.trianglesIn;
   out["method"] = f.method;

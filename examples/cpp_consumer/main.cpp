@@ -1,7 +1,7 @@
 // A consumer of the installed rast package (examples/cpp_consumer): it owns
 // Kokkos, builds a two-triangle scene from Kokkos Views, renders it through
-// rast::lib::Renderer twice (the frame's views are reused), checks the ids and
-// depth it gets back, loads a built-in scene, and checks that bad input comes
+// rast::lib::Renderer (the frame's views are reused), checks the ids, depth and
+// barycentrics it gets back, loads a built-in scene, and checks that bad input comes
 // back as rast::Error rather than ending the program. Exit status 0: all good.
 #include <rast/rast.h>
 
@@ -51,6 +51,12 @@ int main(int argc, char** argv) {
     check(ids(y, left) == 1 && ids(y, right) == 2 && ids(y, mid) == 0,
           "ids: left triangle 0 (+1), right triangle 1 (+1), background 0 between them");
     check(depth(y, left) < 1.0f && depth(y, mid) == 1.0f, "depth: < 1 on a triangle, 1 on background");
+    s.barycentrics = true;
+    const rast::lib::Frame& fb = renderer.render(exec, cam, s);
+    auto bary = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fb.barycentrics);
+    const float sum = bary(y, left, 0) + bary(y, left, 1) + bary(y, left, 2);
+    check(sum > 0.9999f && sum < 1.0001f && bary(y, mid, 0) == 0.0f, "barycentrics sum to 1 on a triangle, 0 elsewhere");
+    s.barycentrics = false;
     const uint32_t* before = f.color.data();
     renderer.render(exec, cam, s);
     check(f.color.data() == before, "a second frame reuses the same colour buffer");

@@ -106,6 +106,7 @@ struct Settings {
   std::optional<std::array<float, 3>> background;  // linear RGB; none: the scene's, else black
   bool sceneLook = true;  // take background and lights from the scene when not given, as the CLI does
   bool depth = true, primIds = true, normals = false;  // which outputs besides colour
+  bool barycentrics = false;  // perspective-correct barycentrics of each pixel's triangle (implies primIds)
 };
 
 // One frame's outputs, as views of the renderer's own buffers (no copy): valid
@@ -117,6 +118,10 @@ struct Frame {
   View<const float**> depth;      // window depth in [0, 1]; 1 where nothing was drawn
   View<const uint32_t**> primIds; // triangle index + 1 in draw order; 0 where nothing was drawn
   View<const float** [3]> normals;  // world-space normals
+  // Perspective-correct barycentrics (b0, b1, b2) of the triangle in primIds at
+  // the pixel's centre, the weights of its three corners; zero where empty (and
+  // on line and point fragments).
+  View<const float** [3]> barycentrics;
   uint32_t trianglesIn = 0, trianglesRasterised = 0;
   std::string method;  // the raster method that ran
 };

@@ -93,11 +93,13 @@ def _scene(scene):
 
 
 def render(scene=None, camera=None, size=(1920, 1080), shading="lambert", cull="none", filter="bilinear",
-           raster="auto", aa="none", background=None, normals=False):
+           raster="auto", aa="none", background=None, normals=False, barycentrics=False):
     """Renders one frame; returns a dict of numpy arrays, top row first:
     color [H,W,4] uint8 (sRGB), depth [H,W] float32 (window depth, 1 = empty),
     ids [H,W] int64 (triangle index in draw order, -1 = empty), normals
-    [H,W,3] float32 (when normals=True); and triangles, method.
+    [H,W,3] float32 (when normals=True), barycentrics [H,W,3] float32 (when
+    barycentrics=True: the perspective-correct weights of the pixel's
+    triangle's three corners at its centre, zero where empty); and triangles, method.
 
     scene: a glTF path, 'builtin:<name>', None (the default scene), a
     rast.Scene or a dict {positions, indices[, normals, uvs, colors,
@@ -115,7 +117,7 @@ def render(scene=None, camera=None, size=(1920, 1080), shading="lambert", cull="
     bg = None if background is None else tuple(float(c) for c in background)
     if bg is not None and len(bg) != 3:
         raise ValueError("background: expected (r, g, b)")
-    return _rast._render(sc, camera, w, h, shading, cull, filter, raster, aa, bg, bool(normals))
+    return _rast._render(sc, camera, w, h, shading, cull, filter, raster, aa, bg, bool(normals), bool(barycentrics))
 
 
 def rasterize(pos, tri, resolution):

@@ -88,6 +88,26 @@ check((out["ids"] >= 0).any() and (out["ids"] == -1).any(), "the default scene c
 n = rast.render("builtin:bigtri", size=(32, 24), normals=True)
 check(n["normals"].shape == (24, 32, 3) and np.isfinite(n["normals"]).all(), "normals [H,W,3]")
 
+# frame barycentrics: the weights of the pixel's triangle's corners, which rebuild
+# the pixel centre through the camera's view-projection (given here as a matrix)
+P = np.array([[1.2, 0, 0, 0], [0, 1.8, 0, 0], [0, 0, -1.02, -0.202], [0, 0, -1, 0]])  # a perspective projection
+world = np.array([[-1, -1, -3], [1.5, -1, -4], [0, 1.5, -2], [-2, 0.5, -6], [1, 1, -5], [0.5, -1.5, -2.5]], np.float32)
+pcam = rast.Camera()
+pcam.view_projection = list(P.T.reshape(-1))  # column-major
+fb = rast.render({"positions": world, "indices": [[0, 1, 2], [3, 4, 5]]}, camera=pcam, size=(80, 60), barycentrics=True)
+bary, fid = fb["barycentrics"], fb["ids"]
+hit = fid >= 0
+check(hit.sum() > 100 and np.all(bary[~hit] == 0), f"barycentrics [H,W,3], zero where empty ({hit.sum()} pixels hit)")
+check(np.abs(bary[hit].sum(-1) - 1).max() < 1e-5 and bary[hit].min() > -1e-4, "they sum to 1 and are in range")
+clipc = np.concatenate([world.astype(np.float64), np.ones((6, 1))], 1) @ P.T  # [6,4]
+tri_idx = np.array([[0, 1, 2], [3, 4, 5]])
+cc = (bary[hit][..., None].astype(np.float64) * clipc[tri_idx[fid[hit]]]).sum(1)
+yy, xx = np.nonzero(hit)
+ex = np.abs(cc[:, 0] / cc[:, 3] - ((2 * xx + 1) / 80 - 1)).max()
+ey = np.abs(cc[:, 1] / cc[:, 3] - (1 - (2 * yy + 1) / 60)).max()  # render's rows are top first
+check(max(ex, ey) < 1e-4, f"frame barycentrics rebuild the pixel centres (max error {max(ex, ey):.2e})")
+check(fb["depth"].shape == (60, 80), "depth still there with barycentrics")
+
 # ---- rasterize: clip-space triangles, nvdiffrast's layout
 rng = np.random.default_rng(7)
 T = 60
