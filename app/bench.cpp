@@ -24,7 +24,7 @@ double median(std::vector<double> v) {
 }
 
 struct BenchRow {
-  std::string scene, requested, method, backend;
+  std::string scene, requested, method, backend, device;
   int width, height, frames;
   std::vector<std::pair<std::string, double>> stageMedianMs;
   double totalMedianMs, totalMinMs;
@@ -34,6 +34,32 @@ struct BenchRow {
   double enqueueMedianMs = 0.0;
   FrameStats stats;
 };
+
+// The device in one line: a GPU backend's "device: ..." line of
+// deviceDescription(), else the CPU's model name and the threads used.
+std::string deviceName() {
+  std::istringstream lines(deviceDescription());
+  for (std::string l; std::getline(lines, l);)
+    if (l.rfind("device: ", 0) == 0) return l.substr(8);
+  std::string model = "CPU";
+  std::ifstream cpu("/proc/cpuinfo");
+  for (std::string l; std::getline(cpu, l);)
+    if (l.rfind("model name", 0) == 0 && l.find(':') != std::string::npos) {
+      model = l.substr(l.find(':') + 1);
+      model.erase(0, model.find_first_not_of(' '));
+      break;
+    }
+  return model + " (" + std::to_string(Exec().concurrency()) + " threads)";
+}
+
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) o += c;
+  }
+  return o + "\"";
+}
 
 BenchRow benchOne(Renderer& r, const Camera& cam, const RenderSettings& rs, const BenchOptions& bo,
                   const std::string& sceneName) {
@@ -84,6 +110,7 @@ BenchRow benchOne(Renderer& r, const Camera& cam, const RenderSettings& rs, cons
   row.requested = toString(rs.raster);
   row.method = toString(row.stats.method);
   row.backend = Exec::name();
+  row.device = deviceName();
   row.width = rs.width;
   row.height = rs.height;
   row.frames = bo.frames;
@@ -98,7 +125,11 @@ BenchRow benchOne(Renderer& r, const Camera& cam, const RenderSettings& rs, cons
 std::string jsonRow(const BenchRow& b) {
   char buf[512];
   std::string s = "{\"scene\": \"" + b.scene + "\", \"requested\": \"" + b.requested + "\", \"method\": \"" + b.method +
-                  "\", \"backend\": \"" + b.backend + "\"";
+                  "\", \"backend\": \"" + b.backend + "\", \"device\": " + jsonString(b.device);
+  // Drawn triangles per second of median frame time.
+  std::snprintf(buf, sizeof buf, ", \"triangles_per_second\": %.6g",
+                b.totalMedianMs > 0.0 ? b.stats.trianglesIn / (b.totalMedianMs * 1e-3) : 0.0);
+  s += buf;
   // The visbuffer raster's layout: a block's rows on lanes (raster_visbuffer.cpp).
   if (b.stats.method == RasterMethod::VisBuffer) s += std::string(", \"row_lanes\": ") + (b.stats.rowLanes ? "true" : "false");
   std::snprintf(buf, sizeof buf,

@@ -56,6 +56,9 @@ AovRequest parseAovs(const std::vector<std::string>& items) {
   return r;
 }
 
+// AOVs named *.npy are written as NumPy arrays, top row first (host/image/image_io.h).
+bool isNpy(const std::string& f) { return f.size() > 4 && (f.compare(f.size() - 4, 4, ".npy") == 0 || f.compare(f.size() - 4, 4, ".NPY") == 0); }
+
 int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<std::string>& aovItems) {
   RenderSettings rs = so.settings();
   const AovRequest aov = parseAovs(aovItems);
@@ -96,16 +99,23 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   const FrameStats st = r.render(cam, rs);
   // Every output goes to a temporary file beside its path first; only when all
   // are complete are they renamed into place, so a failed write leaves every
-  // file that was there as it was (host/image/safe_output.h).
+  // file that was there as it was (host/image/safe_output.h). Any AOV may be
+  // a .npy (numpy, top row first) instead of its PFM / ids file.
   std::vector<std::unique_ptr<AtomicFile>> files;
   const auto open = [&files](const std::string& path) -> AtomicFile& {
     files.push_back(std::make_unique<AtomicFile>(path));
     return *files.back();
   };
-  if (rs.wantDepth) writePfm(open(aov.depth), rs.width, rs.height, 1, r.depthBottomUp().data());
+  if (rs.wantDepth) {
+    const auto d = r.depthBottomUp();
+    if (isNpy(aov.depth)) writeNpy(open(aov.depth), rs.width, rs.height, 1, "<f4", d.data());
+    else writePfm(open(aov.depth), rs.width, rs.height, 1, d.data());
+  }
   if (rs.wantPrimId) {
     const auto ids = r.primIdsBottomUp();
-    if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
+    if (isNpy(aov.primid)) {
+      writeNpy(open(aov.primid), rs.width, rs.height, 1, "<u4", ids.data());
+    } else if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
       std::vector<float> f(ids.begin(), ids.end());
       writePfm(open(aov.primid), rs.width, rs.height, 1, f.data());
     } else {
@@ -114,9 +124,14 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   }
   if (rs.wantNormals) {
     const auto n = r.normalsBottomUp();
-    writePfm(open(aov.normals), rs.width, rs.height, 3, &n[0].x);
+    if (isNpy(aov.normals)) writeNpy(open(aov.normals), rs.width, rs.height, 3, "<f4", &n[0].x);
+    else writePfm(open(aov.normals), rs.width, rs.height, 3, &n[0].x);
   }
-  if (!aov.ao.empty()) writePfm(open(aov.ao), rs.width, rs.height, 1, r.aoBottomUp().data());
+  if (!aov.ao.empty()) {
+    const auto ao = r.aoBottomUp();
+    if (isNpy(aov.ao)) writeNpy(open(aov.ao), rs.width, rs.height, 1, "<f4", ao.data());
+    else writePfm(open(aov.ao), rs.width, rs.height, 1, ao.data());
+  }
   if (rs.post.floatOutput) {
     // RGB of the RGBA film, a row at a time (no second copy of the frame).
     const std::vector<float4> film = r.filmBottomUp();
@@ -177,7 +192,7 @@ int run(int argc, char** argv) {
   renderOpts.addTo(*render);
   render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
       ->capture_default_str();
-  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao)");
+  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first)");
 
   SceneOptions benchOpts;
   BenchOptions bo;

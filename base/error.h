@@ -1,20 +1,17 @@
 // The one exception type for bad input (files, options, budgets). It lives at
 // the bottom of the tree so that every layer, host or pipeline, can throw it
 // without depending on the scene: the CLI prints what() on one line and exits
-// non-zero, and a library caller catches it.
+// non-zero, and a library caller catches it. Its definition is public
+// (include/rast/error.h), so that the installed API throws the same type.
 #pragma once
+
+#include "include/rast/error.h"
 
 #include <cstddef>
 #include <stdexcept>
 #include <string>
 
 namespace rast {
-
-// Errors from bad input (files, options). The CLI prints what() on one line and
-// exits non-zero.
-struct Error : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // Text from outside (a path, a URI, a flag's value) made fit to be echoed in
 // an Error: control characters become '?', and beyond `cap` bytes it is cut,

@@ -62,6 +62,29 @@ void writeIdsBin(const std::string& path, int w, int h, const std::vector<uint32
   f.commit();
 }
 
+void writeNpy(AtomicFile& f, int w, int h, int channels, const char* descr, const void* bottomUp) {
+  std::string header = std::string("{'descr': '") + descr + "', 'fortran_order': False, 'shape': (" + std::to_string(h) +
+                       ", " + std::to_string(w) + (channels > 1 ? ", " + std::to_string(channels) : std::string()) + "), }";
+  // Magic, version 1.0, header length; the header padded with spaces to a multiple of 64 bytes, ending in '\n'.
+  const size_t total = ((10 + header.size() + 1 + 63) / 64) * 64;
+  header.append(total - 10 - header.size() - 1, ' ');
+  header += '\n';
+  const uint16_t len = uint16_t(header.size());
+  f.write("\x93NUMPY\x01\x00", 8);
+  const unsigned char le[2] = {uint8_t(len & 0xff), uint8_t(len >> 8)};
+  f.write(le, 2);
+  f.write(header);
+  const size_t row = size_t(w) * size_t(channels) * 4;
+  const char* src = static_cast<const char*>(bottomUp);
+  for (int y = h - 1; y >= 0; --y) f.write(src + size_t(y) * row, row);
+}
+
+void writeNpy(const std::string& path, int w, int h, int channels, const char* descr, const void* bottomUp) {
+  AtomicFile f(path);
+  writeNpy(f, w, h, channels, descr, bottomUp);
+  f.commit();
+}
+
 std::vector<uint32_t> readIdsBin(const std::string& path, int& w, int& h) {
   std::ifstream f(path, std::ios::binary);
   std::string line;

@@ -17,6 +17,7 @@ class AtomicFile;
 void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba);
 void writePfm(AtomicFile& f, int w, int h, int channels, const float* data);
 void writeIdsBin(AtomicFile& f, int w, int h, const std::vector<uint32_t>& idsBottomUp);
+void writeNpy(AtomicFile& f, int w, int h, int channels, const char* descr, const void* bottomUp);
 
 // Each to its own file, committed. rgba: R in the low byte, top row first.
 void writePng(const std::string& path, int w, int h, const std::vector<uint32_t>& rgba);
@@ -25,6 +26,10 @@ void writePfm(const std::string& path, int w, int h, int channels, const float* 
 // "glref-ids W H u32le top-down\n" then W*H little-endian u32, top row first.
 // ids come bottom row first (as rendered) and are flipped here.
 void writeIdsBin(const std::string& path, int w, int h, const std::vector<uint32_t>& idsBottomUp);
+// NumPy's .npy (format 1.0, little-endian, C order) of an image given bottom row
+// first, written top row first as numpy users index images: [h][w] or
+// [h][w][channels]. descr: "<f4" (float) or "<u4" (uint32); 4-byte elements.
+void writeNpy(const std::string& path, int w, int h, int channels, const char* descr, const void* bottomUp);
 
 // Readers (tests and tools). Each returns data in its file's row order.
 std::vector<uint32_t> readIdsBin(const std::string& path, int& w, int& h);  // top row first

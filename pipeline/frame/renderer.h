@@ -63,6 +63,10 @@ class Renderer {
   // graphics interop) or upload straight from host memory.
   const uint32_t* colorData() const { return frame_.color.data(); }
   static constexpr bool colorOnDevice() { return kOnDevice; }
+  // Every buffer of the last frame where it lives (colour, depth, ids, normals:
+  // frame_buffers.h), for callers that wrap them without a copy (api/, the
+  // library's Frame). Valid until the next frame.
+  const FrameBuffers& frameBuffers() const { return frame_; }
   std::vector<float> depthBottomUp() const;
   std::vector<uint32_t> primIdsBottomUp() const;
   std::vector<float3> normalsBottomUp() const;

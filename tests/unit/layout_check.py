@@ -21,6 +21,7 @@ import sys
 # Lower number = lower layer. A folder may include its own files and those of
 # folders with a strictly lower number.
 LAYERS = {
+    "include/rast": -1,  # the installed API's headers (docs/library.md): Kokkos and std only
     "base": 0,
     "host/scene": 1,
     "host/settings": 2, "host/gltf": 2, "host/image": 2,
@@ -32,20 +33,24 @@ LAYERS = {
     "pipeline/shade": 7, "pipeline/post": 7,
     "pipeline/cpu": 8,
     "pipeline/frame": 9,
+    "api": 10,  # the library behind include/rast/rast.h
     "app": 10,
+    "python": 11,  # the Python module, over include/rast only
     "app/viewer": 11,
     "tests/support": 99,
     "host": 2,
 }
-# Standalone programs (microbenchmarks run on the GPU machine): sizes and
+# Standalone programs (microbenchmarks run on the GPU machine; examples built
+# against the installed package): sizes and
 # opening comments checked, not layers.
-STANDALONE = ("scripts/",)
+STANDALONE = ("scripts/", "examples/")
 COMPILED_ONCE = ("base", "host/", "scenes")
 PER_SPACE = ("backends", "pipeline/")
 TESTS = "tests"
 MAX_LINES = 720
 MAX_FILES = 24
-SOURCE_DIRS = ["base", "host", "scenes", "backends", "pipeline", "app", "tests", "scripts"]
+SOURCE_DIRS = ["include", "base", "host", "scenes", "backends", "pipeline", "api", "app", "python", "examples",
+               "tests", "scripts"]
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--root", required=True)
