@@ -18,6 +18,38 @@ static_assert(std::is_same<ExecutionSpace, Exec>::value,
 
 namespace lib {
 
+// A triangle's barycentrics at the centre of pixel (x, y) of a width x height
+// image, from its corners' NDC positions (px, py) and 1/w (iw): the
+// screen-space weights b (for interpolating z/w) and the perspective-correct
+// ones p (for attributes). A degenerate triangle gets (1/3, 1/3, 1/3).
+// Shared by rasterize() and the renderer's barycentrics output.
+struct PixelBarycentrics {
+  double b[3], p[3];
+};
+KOKKOS_INLINE_FUNCTION PixelBarycentrics pixelBarycentrics(int64_t x, int64_t y, int64_t width, int64_t height,
+                                                           const double (&px)[3], const double (&py)[3],
+                                                           const double (&iw)[3]) {
+  const double sx = (2.0 * double(x) + 1.0) / double(width) - 1.0;
+  const double sy = (2.0 * double(y) + 1.0) / double(height) - 1.0;
+  const double ax = px[1] - px[0], ay = py[1] - py[0], bx = px[2] - px[0], by = py[2] - py[0];
+  const double qx = sx - px[0], qy = sy - py[0];
+  const double d = ax * by - ay * bx;
+  double b1 = 1.0 / 3.0, b2 = 1.0 / 3.0;
+  if (d != 0.0) {
+    b1 = (qx * by - qy * bx) / d;
+    b2 = (ax * qy - ay * qx) / d;
+  }
+  const double b0 = 1.0 - b1 - b2;
+  const double q0 = b0 * iw[0], q1 = b1 * iw[1], q2 = b2 * iw[2], sum = q0 + q1 + q2;
+  PixelBarycentrics r{{b0, b1, b2}, {b0, b1, b2}};
+  if (sum != 0.0) {
+    r.p[0] = q0 / sum;
+    r.p[1] = q1 / sum;
+    r.p[2] = q2 / sum;
+  }
+  return r;
+}
+
 struct Scene::Impl {
   ::rast::Scene scene;
 };

@@ -96,21 +96,10 @@ void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<cons
           py[k] = double(pos(v, 1)) * iw[k];
           zw[k] = double(pos(v, 2)) * iw[k];
         }
-        const double sx = (2.0 * double(x) + 1.0) / double(width) - 1.0;
-        const double sy = (2.0 * double(y) + 1.0) / double(height) - 1.0;
-        const double ax = px[1] - px[0], ay = py[1] - py[0], bx = px[2] - px[0], by = py[2] - py[0];
-        const double qx = sx - px[0], qy = sy - py[0];
-        const double d = ax * by - ay * bx;
-        double b1 = 1.0 / 3.0, b2 = 1.0 / 3.0;
-        if (d != 0.0) {
-          b1 = (qx * by - qy * bx) / d;
-          b2 = (ax * qy - ay * qx) / d;
-        }
-        const double b0 = 1.0 - b1 - b2;
-        const double q0 = b0 * iw[0], q1 = b1 * iw[1], q2 = b2 * iw[2], s = q0 + q1 + q2;
-        out(y, x, 0) = float(s != 0.0 ? q0 / s : b0);
-        out(y, x, 1) = float(s != 0.0 ? q1 / s : b1);
-        out(y, x, 2) = float(b0 * zw[0] + b1 * zw[1] + b2 * zw[2]);
+        const PixelBarycentrics w = pixelBarycentrics(x, y, width, height, px, py, iw);
+        out(y, x, 0) = float(w.p[0]);
+        out(y, x, 1) = float(w.p[1]);
+        out(y, x, 2) = float(w.b[0] * zw[0] + w.b[1] * zw[1] + w.b[2] * zw[2]);
         out(y, x, 3) = float(id);
         ids(y, x) = int32_t(t);
       });

@@ -100,21 +100,8 @@ void Renderer::Impl::computeBarycentrics(const ::rast::Camera& cam, int width, i
           px[k] = cx * iw[k];
           py[k] = cy * iw[k];
         }
-        const double sx = (2.0 * double(x) + 1.0) / double(width) - 1.0;
-        const double sy = (2.0 * double(y) + 1.0) / double(height) - 1.0;
-        const double ax = px[1] - px[0], ay = py[1] - py[0], bx = px[2] - px[0], by = py[2] - py[0];
-        const double qx = sx - px[0], qy = sy - py[0];
-        const double d = ax * by - ay * bx;
-        double b1 = 1.0 / 3.0, b2 = 1.0 / 3.0;
-        if (d != 0.0) {
-          b1 = (qx * by - qy * bx) / d;
-          b2 = (ax * qy - ay * qx) / d;
-        }
-        const double b0 = 1.0 - b1 - b2;
-        const double q0 = b0 * iw[0], q1 = b1 * iw[1], q2 = b2 * iw[2], sum = q0 + q1 + q2;
-        out(y, x, 0) = float(sum != 0.0 ? q0 / sum : b0);
-        out(y, x, 1) = float(sum != 0.0 ? q1 / sum : b1);
-        out(y, x, 2) = float(sum != 0.0 ? q2 / sum : b2);
+        const PixelBarycentrics w = pixelBarycentrics(x, y, width, height, px, py, iw);
+        for (int k = 0; k < 3; ++k) out(y, x, k) = float(w.p[k]);
       });
   Kokkos::fence();
 }
