@@ -25,6 +25,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 import adversarial  # noqa: E402
+from cli_checks import one_line_error  # noqa: E402
 from script_args import arg_parser  # noqa: E402
 
 args = arg_parser().parse_args()
@@ -61,29 +62,6 @@ def snapshot(paths):
         with open(p, "rb") as f:
             out[p] = f.read()
     return out
-
-
-def one_line_error(r, words):
-    """Problems with r as a refusal: non-zero exit (no signal), one 'rast: error:' line with WORDS."""
-    if r is None:
-        return ["did not finish"]
-    problems = []
-    err = r.stderr.decode("utf-8", "replace")
-    if r.returncode == 0:
-        problems.append("exit status 0")
-    elif r.returncode < 0:
-        problems.append(f"killed by signal {-r.returncode}")
-    lines = err.split("\n")
-    if lines and lines[-1] == "":
-        lines.pop()
-    if len(lines) != 1 or not lines[0].startswith("rast: error: "):
-        problems.append(f"stderr is not one 'rast: error:' line: {err[:300]!r}")
-    elif len(lines[0]) > 1100:
-        problems.append(f"error line of {len(lines[0])} bytes")
-    for w in words if isinstance(words, list) else [words]:
-        if w not in err:
-            problems.append(f"stderr lacks {w!r}: {err[:300]!r}")
-    return problems
 
 
 def unchanged(before):

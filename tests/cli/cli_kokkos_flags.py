@@ -11,6 +11,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from cli_checks import one_line_error  # noqa: E402
 from script_args import arg_parser  # noqa: E402
 
 args = arg_parser().parse_args()
@@ -41,26 +42,6 @@ def run(argv, extra_env=None):
         return subprocess.run([args.rast] + argv, capture_output=True, timeout=120, env=e)
     except subprocess.TimeoutExpired:
         return None
-
-
-def one_line_error(r, words):
-    if r is None:
-        return ["did not finish"]
-    problems = []
-    err = r.stderr.decode("utf-8", "replace")
-    if r.returncode == 0:
-        problems.append("exit status 0")
-    elif r.returncode < 0:
-        problems.append(f"killed by signal {-r.returncode}")
-    lines = err.split("\n")
-    if lines and lines[-1] == "":
-        lines.pop()
-    if len(lines) != 1 or not lines[0].startswith("rast: error: "):
-        problems.append(f"stderr is not one 'rast: error:' line: {err[:300]!r}")
-    for w in words if isinstance(words, list) else [words]:
-        if w not in err:
-            problems.append(f"stderr lacks {w!r}: {err[:300]!r}")
-    return problems
 
 
 ncpu = os.cpu_count() or 1
