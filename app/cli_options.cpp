@@ -39,8 +39,9 @@ void SceneOptions::addTo(CLI::App& app) {
                                          "(`rast info SCENE` lists them)");
   app.add_option("--ortho", ortho, "orthographic projection with this half height (world units) instead of --fovy");
   app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
-  app.add_option("--shading", shading, "lambert|blinn-phong|normals|depth|uv|miplevel")->capture_default_str();
-  app.add_option("--filter", filter, "texture filter: nearest|bilinear|trilinear")->capture_default_str();
+  app.add_option("--shading", shading, "pbr|lambert|blinn-phong|normals|depth|uv|miplevel (default: pbr, the glTF "
+                                             "material model and the file's lights, for glTF files; lambert for builtin scenes)");
+  app.add_option("--filter", filter, "texture filter: auto|nearest|bilinear|trilinear (auto: the glTF samplers' filters under pbr, bilinear otherwise)")->capture_default_str();
   app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8 (default: none; msaa4 for the default scene's image)");
   app.add_flag("--reference", reference, "ground truth: 16x16 stratified samples per pixel (slow on purpose)");
   app.add_option("--reference-grid", referenceGrid, "reference samples per pixel side")->capture_default_str();
@@ -50,7 +51,7 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
   app.add_option("--background", background, "background colour r,g,b in [0,1], linear (default: black, or the builtin scene's)");
   app.add_option("--exposure", exposure, "exposure in EV (colour times 2^EV) before tone mapping")->capture_default_str();
-  app.add_option("--tonemap", tonemap, "tone mapping: none|reinhard|aces")->capture_default_str();
+  app.add_option("--tonemap", tonemap, "tone mapping: none|reinhard|aces|pbr-neutral")->capture_default_str();
   bloomOpt = app.add_option("--bloom", bloom,
                             "bloom, optionally --bloom=THRESHOLD[,STRENGTH[,RADIUS_PX]] (default 1,0.5,16)")
                  ->expected(0, 1);
@@ -90,7 +91,7 @@ RenderSettings SceneOptions::settings() const {
   if (w < 1 || h < 1 || w > 16384 || h > 16384)
     throw Error("--size: " + size + " is outside 1..16384 per side");
   rs.cull = parseCull(cull);
-  rs.shading = parseShading(shading);
+  rs.shading = shading.empty() ? ShadingMode::Lambert : parseShading(shading);
   rs.filter = parseFilter(filter);
   rs.raster = parseRaster(raster);
   parseAA(aa.empty() ? "none" : aa, rs);
@@ -127,6 +128,11 @@ RenderSettings SceneOptions::settings() const {
 
 void SceneOptions::applySceneLook(const Scene& scene, RenderSettings& rs, bool still) const {
   const SceneLook& look = scene.look;
+  // A glTF file is shown as its author made it: the glTF material model and
+  // its lights; the built-in scenes keep their Lambert look.
+  if (shading.empty() && !scene.sourceFiles.empty()) rs.shading = ShadingMode::Pbr;
+  // --filter auto means the file's samplers to the glTF shading; the others filter bilinearly.
+  if (rs.filter == TexFilter::Auto && rs.shading != ShadingMode::Pbr) rs.filter = TexFilter::Bilinear;
   if (background.empty() && look.background) rs.background = *look.background;
   if (lights.empty() && !look.lights.empty()) {
     rs.lights.clear();

@@ -7,10 +7,12 @@
 namespace rast {
 
 bool extensionHonoured(const std::string& name) {
-  // The loader reads quantized attributes (host/gltf/accessors.cpp) and bakes
-  // the base-colour texture's transform into the UVs (model_walk.cpp); every
+  // The loader reads quantized attributes (host/gltf/accessors.cpp), bakes
+  // the textures' transform into the UVs (model_walk.cpp) and reads lights and
+  // the material extensions (materials.cpp), which `--shading pbr` shades; every
   // other extension is ignored (and refused when a file requires it).
-  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform";
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_lights_punctual" ||
+         name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength";
 }
 
 void printSceneInfo(const Scene& s, const std::string& source) {
@@ -19,7 +21,7 @@ void printSceneInfo(const Scene& s, const std::string& source) {
   std::printf("geometry: %u triangles, %llu line segments, %llu points in %zu draws of %zu primitives; %zu vertices\n",
               s.triangleCount(), (unsigned long long)s.lineCount(), (unsigned long long)s.pointCount(), s.draws.size(),
               s.prims.size(), s.positions.size());
-  std::printf("textures: %zu (base colour only)\n", s.textures.size());
+  std::printf("textures: %zu\n", s.textures.size());
 
   std::printf("cameras: %zu%s\n", s.cameras.size(), s.cameras.empty() ? " (rast frames the scene)" : " (--camera N|NAME)");
   for (size_t i = 0; i < s.cameras.size(); ++i) {
@@ -42,16 +44,15 @@ void printSceneInfo(const Scene& s, const std::string& source) {
   const uint32_t lights = f.lightsDeclared[0] + f.lightsDeclared[1] + f.lightsDeclared[2];
   std::printf("lights (KHR_lights_punctual): %u declared (%u directional, %u point, %u spot), placed by %u nodes: %s\n",
               lights, f.lightsDeclared[0], f.lightsDeclared[1], f.lightsDeclared[2], f.lightNodes,
-              lights ? "not honoured (rast lights with its headlight or --light)" : "none");
+              lights ? "honoured by --shading pbr (the default for glTF files)" : "none (rast lights with its headlight)");
 
   std::printf("materials: %u\n", f.materials);
   static const char* kFeature[10] = {"baseColorTexture",  "metallicRoughnessTexture", "normalTexture",
                                      "occlusionTexture",  "emissive",                 "alphaMode MASK",
                                      "alphaMode BLEND",   "doubleSided",              "KHR_materials_unlit",
                                      "KHR_texture_transform"};
-  // What the shading uses today: the base colour factor and texture (and vertex colours).
-  // KHR_texture_transform: on the base-colour texture, the only one sampled.
-  static const bool kHonoured[10] = {true, false, false, false, false, false, false, false, false, true};
+  // What `--shading pbr` uses (pipeline/shade/pbr_shading.h); alpha modes are not yet drawn.
+  static const bool kHonoured[10] = {true, true, true, true, true, false, false, true, true, true};
   for (int k = 0; k < 10; ++k)
     if (f.materialUses[k])
       std::printf("  %-26s %u material%s: %s\n", kFeature[k], f.materialUses[k], f.materialUses[k] == 1 ? "" : "s",

@@ -32,10 +32,10 @@ std::vector<T> knownModes(T (*parse)(const std::string&), std::initializer_list<
 }
 // L: the lighting models first, then the debug views.
 std::vector<ShadingMode> shadingModes() {
-  return knownModes<ShadingMode>(parseShading, {"lambert", "blinn-phong", "normals", "depth", "uv", "miplevel"});
+  return knownModes<ShadingMode>(parseShading, {"lambert", "blinn-phong", "normals", "depth", "uv", "miplevel", "pbr"});
 }
 // T: bilinear <-> nearest first, then the rest.
-std::vector<TexFilter> filterModes() { return knownModes<TexFilter>(parseFilter, {"bilinear", "nearest", "trilinear"}); }
+std::vector<TexFilter> filterModes() { return knownModes<TexFilter>(parseFilter, {"bilinear", "nearest", "trilinear", "auto"}); }
 // M: auto first in the combo box; the keys skip it (stepSkip 1).
 std::vector<RasterMethod> rasterMethods() {
   std::vector<RasterMethod> ms = allRasterMethods();

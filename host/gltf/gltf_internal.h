@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -118,5 +119,15 @@ class AccessorReader {
   const tinygltf::Model& m_;
   LoadContext& ctx_;
 };
+
+// ---------------------------------------------------------------- materials.cpp
+
+// Material `mi` of the model, its values checked against glTF 2.0's ranges.
+// texture(index, slot) loads texture `index` of the model for the named slot
+// and returns its index in Scene::textures.
+Material readMaterial(const tinygltf::Model& m, int mi, const std::function<int32_t(int, const char*)>& texture);
+
+// KHR_lights_punctual light `li`, placed by a node at `world`.
+PunctualLight readLight(const tinygltf::Model& m, int li, const std::string& nodeName, const glm::dmat4& world);
 
 }  // namespace rast::gltf_detail

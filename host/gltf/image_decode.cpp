@@ -161,6 +161,16 @@ Texture decodeTexture(const tinygltf::Model& m, int texIndex, MemoryLedger& ledg
     if (size_t(t.sampler) >= m.samplers.size()) throw Error("texture sampler index out of range");
     out.wrapS = m.samplers[t.sampler].wrapS;
     out.wrapT = m.samplers[t.sampler].wrapT;
+    const tinygltf::Sampler& sm = m.samplers[t.sampler];
+    if (sm.magFilter != -1) {
+      if (sm.magFilter != 9728 && sm.magFilter != 9729) throw Error("sampler has an invalid magFilter");
+      out.magFilter = sm.magFilter;
+    }
+    if (sm.minFilter != -1) {
+      if (sm.minFilter != 9728 && sm.minFilter != 9729 && (sm.minFilter < 9984 || sm.minFilter > 9987))
+        throw Error("sampler has an invalid minFilter");
+      out.minFilter = sm.minFilter;
+    }
   }
   for (int32_t w : {out.wrapS, out.wrapT})
     if (w != WrapRepeat && w != WrapClamp && w != WrapMirror) throw Error("sampler has an invalid wrap mode");

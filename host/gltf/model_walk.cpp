@@ -96,7 +96,14 @@ class Loader {
       } else if (n.camera < -1) {
         throw Error("camera index " + std::to_string(n.camera) + " out of range");
       }
-      if (n.extensions.count("KHR_lights_punctual")) ++s_.facts.lightNodes;
+      const auto light = n.extensions.find("KHR_lights_punctual");
+      if (light != n.extensions.end()) {
+        ++s_.facts.lightNodes;
+        const tinygltf::Value& x = light->second;
+        if (!x.IsObject() || !x.Has("light") || !x.Get("light").IsInt())
+          throw Error("node " + std::to_string(ni) + " KHR_lights_punctual: light must be an integer index");
+        s_.lights.push_back(readLight(m_, x.Get("light").GetNumberAsInt(), n.name, world));
+      }
       if (n.mesh >= 0) {
         if (size_t(n.mesh) >= m_.meshes.size()) throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
         for (uint32_t p : meshPrims(n.mesh)) s_.draws.push_back(Draw{p, world});
@@ -410,17 +417,34 @@ class Loader {
     auto it = matCache_.find(mi);
     if (it == matCache_.end()) {
       const tinygltf::Material& gm = m_.materials[mi];
-      Material mat;
-      const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
-      if (f.size() == 4) mat.baseColorFactor = {float(f[0]), float(f[1]), float(f[2]), float(f[3])};
-      const auto& bt = gm.pbrMetallicRoughness.baseColorTexture;
+      const Material mat = readMaterial(m_, mi, [&](int ti, const char*) { return texture(ti); });
+      // The material's textures share one set of coordinates: the base
+      // colour's (its transform baked in), else the first textured slot's.
+      const tinygltf::TextureInfo* slots[4] = {&gm.pbrMetallicRoughness.baseColorTexture,
+                                               &gm.pbrMetallicRoughness.metallicRoughnessTexture,
+                                               &gm.emissiveTexture, nullptr};
+      tinygltf::TextureInfo normal, occlusion;  // their own structs in tinygltf
       int set = -1;
       UvTransform xf;
-      if (bt.index >= 0) {
-        mat.texture = texture(bt.index);
-        set = bt.texCoord;
+      const tinygltf::TextureInfo* first = nullptr;
+      for (int k = 0; k < 3 && !first; ++k)
+        if (slots[k]->index >= 0) first = slots[k];
+      if (!first && gm.normalTexture.index >= 0) {
+        normal.index = gm.normalTexture.index;
+        normal.texCoord = gm.normalTexture.texCoord;
+        normal.extensions = gm.normalTexture.extensions;
+        first = &normal;
+      }
+      if (!first && gm.occlusionTexture.index >= 0) {
+        occlusion.index = gm.occlusionTexture.index;
+        occlusion.texCoord = gm.occlusionTexture.texCoord;
+        occlusion.extensions = gm.occlusionTexture.extensions;
+        first = &occlusion;
+      }
+      if (first) {
+        set = first->texCoord;
         if (set < 0) throw Error("material texCoord set is negative");
-        xf = uvTransform(bt, mi, &set);
+        xf = uvTransform(*first, mi, &set);
       }
       s_.materials.push_back(mat);
       it = matCache_.emplace(mi, LoadedMaterial{int32_t(s_.materials.size() - 1), set, xf}).first;

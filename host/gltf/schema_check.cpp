@@ -303,9 +303,12 @@ class SchemaChecker {
 // AccessorReader reads anyway.
 // What a file may require: the loader reads quantized attributes
 // (accessors.cpp) and applies the base-colour texture's transform
-// (model_walk.cpp); app/scene_info.cpp reports the same list.
+// (model_walk.cpp); the lights and material extensions are read by
+// materials.cpp and shaded under `--shading pbr` (pipeline/shade/pbr_shading.h).
+// app/scene_info.cpp reports the same list.
 bool extensionSupported(const std::string& name) {
-  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform";
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_lights_punctual" ||
+         name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength";
 }
 
 }  // namespace

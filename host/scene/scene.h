@@ -25,11 +25,53 @@ struct Texture {
   int32_t width = 0, height = 0;
   std::vector<uint32_t> rgba;  // sRGB-encoded RGBA8 (R in the low byte), first row = top of the image
   int32_t wrapS = WrapRepeat, wrapT = WrapRepeat;
+  // The sampler's filters (GL enums as glTF stores them; a file without
+  // them gets linear and linear-mipmap-linear, as the Khronos renderer does).
+  // Used under `--filter auto` by the glTF shading.
+  int32_t magFilter = 9729, minFilter = 9987;
 };
 
+// glTF alphaMode (3.9.4): OPAQUE ignores alpha, MASK discards below the
+// cutoff, BLEND composites.
+enum class AlphaMode : int32_t { Opaque = 0, Mask = 1, Blend = 2 };
+
+// A glTF 2.0 metallic-roughness material (3.9), factors linear. Texture
+// fields index Scene::textures (-1: none); every texture of a material is
+// sampled with the primitive's one set of texture coordinates (Scene::uvs,
+// the base colour's, or the first textured slot's; docs/gltf-support.md).
 struct Material {
   float4 baseColorFactor{1.0f, 1.0f, 1.0f, 1.0f};  // linear
-  int32_t texture = -1;                             // index into Scene::textures, -1: none
+  int32_t texture = -1;                             // baseColorTexture (sRGB)
+  float metallic = 1.0f, roughness = 1.0f;
+  int32_t metallicRoughnessTexture = -1;  // G: roughness, B: metallic (linear)
+  int32_t normalTexture = -1;             // tangent space, linear
+  float normalScale = 1.0f;
+  int32_t occlusionTexture = -1;          // R: occlusion of indirect light (linear)
+  float occlusionStrength = 1.0f;
+  float3 emissive{0.0f, 0.0f, 0.0f};      // emissiveFactor x KHR_materials_emissive_strength
+  int32_t emissiveTexture = -1;           // sRGB
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;
+  bool doubleSided = false;
+  bool unlit = false;                     // KHR_materials_unlit
+  bool anyTexture() const {
+    return texture >= 0 || metallicRoughnessTexture >= 0 || normalTexture >= 0 || occlusionTexture >= 0 ||
+           emissiveTexture >= 0;
+  }
+};
+
+// A KHR_lights_punctual light placed in the world by its node: directional
+// (lux), point and spot (candela); colour linear. range 0: unlimited.
+enum class LightType : int32_t { Directional = 0, Point = 1, Spot = 2 };
+struct PunctualLight {
+  LightType type = LightType::Directional;
+  float3 color{1.0f, 1.0f, 1.0f};
+  float intensity = 1.0f;
+  float range = 0.0f;
+  float innerConeAngle = 0.0f, outerConeAngle = 0.7853981634f;  // radians (spot)
+  float3 position{0.0f, 0.0f, 0.0f};   // world
+  float3 direction{0.0f, 0.0f, -1.0f};  // world, the way the light shines (the node's -Z)
+  std::string name;
 };
 
 // A run of vertices and triangles sharing one material.
@@ -111,6 +153,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<FileCamera> cameras;  // a glTF file's cameras, by node (--camera N|NAME)
+  std::vector<PunctualLight> lights;  // KHR_lights_punctual, one per node placing a light
   FileFacts facts;
   // Every file the scene was read from: the scene file and, resolved, each
   // external buffer and image. Outputs must not be any of them (app/).

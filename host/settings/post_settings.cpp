@@ -23,14 +23,21 @@ std::vector<double> numbers(const std::string& s, const char* flag, size_t maxN)
 }  // namespace
 
 const char* toString(ToneMap t) {
-  return t == ToneMap::Reinhard ? "reinhard" : t == ToneMap::Aces ? "aces" : "none";
+  switch (t) {
+    case ToneMap::None: return "none";
+    case ToneMap::Reinhard: return "reinhard";
+    case ToneMap::Aces: return "aces";
+    case ToneMap::Neutral: return "pbr-neutral";
+  }
+  return "none";
 }
 
 ToneMap parseToneMap(const std::string& s) {
   if (s == "none") return ToneMap::None;
   if (s == "reinhard") return ToneMap::Reinhard;
   if (s == "aces") return ToneMap::Aces;
-  throw Error("unknown tone map '" + s + "' (expected none|reinhard|aces)");
+  if (s == "pbr-neutral") return ToneMap::Neutral;
+  throw Error("unknown tone map '" + s + "' (expected none|reinhard|aces|pbr-neutral)");
 }
 
 void parseBloom(const std::string& s, PostSettings& p) {

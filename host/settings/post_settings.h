@@ -7,7 +7,8 @@
 
 namespace rast {
 
-enum class ToneMap { None, Reinhard, Aces };
+// Neutral: Khronos PBR Neutral, the glTF Sample Renderer's default.
+enum class ToneMap { None, Reinhard, Aces, Neutral };
 
 struct PostSettings {
   float exposure = 0.0f;            // EV: linear colour times 2^EV
@@ -27,7 +28,7 @@ struct PostSettings {
 };
 
 const char* toString(ToneMap t);
-ToneMap parseToneMap(const std::string& s);  // none|reinhard|aces; throws Error
+ToneMap parseToneMap(const std::string& s);  // none|reinhard|aces|pbr-neutral; throws Error
 // Command-line values: "" keeps the defaults; "T[,S[,R]]" and "R[,N]".
 void parseBloom(const std::string& s, PostSettings& p);
 void parseSsao(const std::string& s, PostSettings& p);

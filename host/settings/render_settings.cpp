@@ -31,14 +31,16 @@ const std::pair<const char*, ShadingMode> kShading[] = {{"lambert", ShadingMode:
                                                         {"normals", ShadingMode::Normals},
                                                         {"depth", ShadingMode::Depth},
                                                         {"uv", ShadingMode::TexCoord},
-                                                        {"miplevel", ShadingMode::MipLevel}};
+                                                        {"miplevel", ShadingMode::MipLevel},
+                                                        {"pbr", ShadingMode::Pbr}};
 const std::pair<const char*, RasterMethod> kRaster[] = {
     {"auto", RasterMethod::Auto},
     {"naive", RasterMethod::Naive},
     {"visbuffer", RasterMethod::VisBuffer},
     {"binned", RasterMethod::Binned}};
 const std::pair<const char*, TexFilter> kFilter[] = {
-    {"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}, {"trilinear", TexFilter::Trilinear}};
+    {"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}, {"trilinear", TexFilter::Trilinear},
+    {"auto", TexFilter::Auto}};
 const std::pair<const char*, CullMode> kCull[] = {{"none", CullMode::None}, {"back", CullMode::Back}};
 const std::pair<const char*, PolygonMode> kPolygon[] = {
     {"fill", PolygonMode::Fill}, {"line", PolygonMode::Line}, {"point", PolygonMode::Point}};

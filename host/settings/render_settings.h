@@ -11,8 +11,13 @@
 namespace rast {
 
 enum class CullMode { None, Back };
-enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel };
-enum class TexFilter { Nearest, Bilinear, Trilinear };
+// Pbr: the glTF 2.0 metallic-roughness model with the file's punctual lights
+// (pipeline/shade/pbr_shading.h); Lambert and BlinnPhong: base colour under a
+// headlight or --light, as glref and the seed rasterizers shade.
+enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel, Pbr };
+// Auto: the glTF samplers' own filters under the glTF shading (--shading pbr),
+// bilinear otherwise.
+enum class TexFilter { Nearest, Bilinear, Trilinear, Auto };
 enum class RasterMethod { Auto, Naive, VisBuffer, Binned };
 // How triangles are drawn (glPolygonMode): filled, as their edges, or as their corners.
 enum class PolygonMode { Fill, Line, Point };

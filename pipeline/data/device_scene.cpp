@@ -32,7 +32,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
 
   // Only the attribute streams that some drawn primitive uses travel.
   bool usesTexture = false;
-  for (const Material& m : s.materials) usesTexture |= m.texture >= 0;
+  for (const Material& m : s.materials) usesTexture |= m.anyTexture();
   d.hasUV = usesTexture && !s.uvs.empty();
   d.hasColor = !s.colors.empty();
   d.hasTextures = usesTexture;
@@ -53,6 +53,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     g.dstTri = uint32_t(tri);
     g.material = p.material;
     g.mirrored = glm::determinant(dr.model) < 0.0 ? 1 : 0;
+    g.singleSided = p.material >= 0 && !s.materials[p.material].doubleSided ? 1 : 0;
     for (int k = 0; k < 16; ++k) g.model.m[k] = (&dr.model[0][0])[k];
     for (int k = 0; k < 16; ++k) g.modelF.m[k] = float(g.model.m[k]);
     const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(dr.model));
@@ -84,11 +85,46 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.uploadLinesAndPoints(s);
 
   std::vector<MaterialGPU> mats;
-  for (const Material& m : s.materials) mats.push_back({m.baseColorFactor, m.texture});
+  for (const Material& m : s.materials) {
+    MaterialGPU g{};
+    g.baseColor = m.baseColorFactor;
+    g.texture = m.texture;
+    g.mrTexture = m.metallicRoughnessTexture;
+    g.normalTexture = m.normalTexture;
+    g.occlusionTexture = m.occlusionTexture;
+    g.emissiveTexture = m.emissiveTexture;
+    g.metallic = m.metallic;
+    g.roughness = m.roughness;
+    g.normalScale = m.normalScale;
+    g.occlusionStrength = m.occlusionStrength;
+    g.emissive = m.emissive;
+    g.flags = (m.unlit ? kMaterialUnlit : 0) | (m.doubleSided ? kMaterialDoubleSided : 0) |
+              (m.alphaMode == AlphaMode::Opaque ? kMaterialOpaque : 0);
+    mats.push_back(g);
+  }
   d.materials = uploadVec("scene.materials", mats);
+  std::vector<PunctualGPU> lights;
+  for (const PunctualLight& l : s.lights) {
+    PunctualGPU g{};
+    g.color = l.color * l.intensity;
+    g.type = int32_t(l.type);
+    g.position = l.position;
+    g.range = l.range;
+    g.direction = l.direction;
+    // KHR_lights_punctual's spot smoothing: a linear ramp of cos(angle)
+    // between the outer and inner cones (squared by the shader).
+    const float cosOuter = std::cos(l.outerConeAngle), cosInner = std::cos(l.innerConeAngle);
+    g.lightAngleScale = 1.0f / std::max(0.001f, cosInner - cosOuter);
+    g.lightAngleOffset = -cosOuter * g.lightAngleScale;
+    lights.push_back(g);
+  }
+  if (!lights.empty()) d.lights = uploadVec("scene.lights", lights);
 
   if (usesTexture) d.uploadTextures(s.textures, false);
   d.srgbToLinear = uploadVec("scene.srgbToLinear", srgbDecodeTable());
+  std::vector<float> unorm(256);
+  for (int i = 0; i < 256; ++i) unorm[i] = float(i) / 255.0f;
+  d.unormToFloat = uploadVec("scene.unormToFloat", unorm);
   d.srgbEncodePacked = uploadVec("scene.srgbEncodePacked", rast::srgbEncodePacked());
   return d;
 }
@@ -125,7 +161,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
   std::vector<TextureGPU> tex;
   std::vector<uint32_t> texels;
   for (const Texture& t : list) {
-    TextureGPU g{uint32_t(texels.size()), t.width, t.height, t.wrapS, t.wrapT, 1};
+    TextureGPU g{uint32_t(texels.size()), t.width, t.height, t.wrapS, t.wrapT, 1, t.magFilter, t.minFilter};
     texels.insert(texels.end(), t.rgba.begin(), t.rgba.end());
     if (mipmaps) {
       std::vector<uint32_t> level = t.rgba;
@@ -149,7 +185,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
-         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
+         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
          viewBytes(points);
 }
 

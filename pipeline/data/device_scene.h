@@ -30,6 +30,8 @@ struct DeviceScene {
   DView<TextureGPU> textures;
   DView<uint32_t> texels;  // all textures, sRGB RGBA8
   DView<float> srgbToLinear;  // 256-entry decode table
+  DView<float> unormToFloat;  // 256-entry table i / 255, for linear textures (normals, metal/rough, occlusion)
+  DView<PunctualGPU> lights;  // the file's KHR_lights_punctual lights (empty: none)
   DView<uint32_t> srgbEncodePacked;  // sRGB encoder, one entry per bucket (srgbEncodePacked(), packSrgb8Packed)
 
   // Drawn line segments, then drawn points, in scene traversal order

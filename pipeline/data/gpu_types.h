@@ -18,20 +18,40 @@ struct DrawGPU {
   uint32_t srcTri, dstTri, triCount;
   int32_t material;  // -1: default material
   int32_t mirrored;  // node transform has a negative determinant: front faces are clockwise
+  int32_t singleSided;  // the material is not doubleSided: back faces culled when the frame culls per material
   mat4d model;
   mat3f normalMatrix;  // transpose(inverse(mat3(model)))
   mat4f modelF;        // model rounded to float once, for world positions (the vertex stage)
 };
 
+// A glTF metallic-roughness material (host/scene/scene.h Material). The
+// Lambert and Blinn-Phong shading read baseColor and texture alone; the
+// rest is the glTF model's (pipeline/shade/pbr_shading.h).
 struct MaterialGPU {
   float4 baseColor;  // linear
-  int32_t texture;   // -1: none
+  int32_t texture;   // base colour (sRGB), -1: none
+  int32_t mrTexture, normalTexture, occlusionTexture, emissiveTexture;  // -1: none
+  float metallic, roughness, normalScale, occlusionStrength;
+  float3 emissive;   // linear, emissive strength applied
+  int32_t flags;     // kMaterialUnlit | kMaterialDoubleSided | kMaterialOpaque
+};
+constexpr int32_t kMaterialUnlit = 1, kMaterialDoubleSided = 2, kMaterialOpaque = 4;
+
+// A KHR_lights_punctual light in world space (host/scene/scene.h PunctualLight).
+struct PunctualGPU {
+  float3 color;      // colour x intensity
+  int32_t type;      // LightType: 0 directional, 1 point, 2 spot
+  float3 position;
+  float range;       // 0: unlimited
+  float3 direction;  // the way the light shines
+  float lightAngleScale, lightAngleOffset;  // spot: cone smoothing (KHR_lights_punctual's recommended form)
 };
 
 struct TextureGPU {
   uint32_t offset;  // first texel of level 0 in the shared texel buffer
   int32_t width, height, wrapS, wrapT;
   int32_t levels;   // mipmap levels stored after level 0 (1: none)
+  int32_t magFilter, minFilter;  // the glTF sampler's (GL enums), for `--filter auto`
 };
 
 // A vertex in window space: x, y in fixed point with kFineBits (16) fractional

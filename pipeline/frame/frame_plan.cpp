@@ -90,7 +90,11 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   p.autoStats = in.statsDue;
   p.samples = f.vp.samples.count;
   p.fill = rs.polygon == PolygonMode::Fill;
-  p.cullBack = rs.cull == CullMode::Back;
+  // glTF's single-sided materials cull their back faces in the glTF model
+  // (--shading pbr); the other shadings draw every face, as glref does.
+  p.cull = rs.cull == CullMode::Back          ? CullFaces::All
+           : rs.shading == ShadingMode::Pbr ? CullFaces::SingleSided
+                                              : CullFaces::None;
   p.occluders = useOccluders(rs, p, in.stats);
   p.rowLanes = useRowLanes(rs, p, in.stats);
   // The visbuffer raster's work items are numbered by the setup; the

@@ -12,6 +12,8 @@
 // switch and in chooseMethod below (the compiler warns of a missing case).
 #pragma once
 
+#include "pipeline/geometry/geometry.h"
+
 #include "pipeline/cpu/cpu_shade.h"
 #include "pipeline/data/device_scene.h"
 #include "pipeline/data/frame_buffers.h"
@@ -45,7 +47,7 @@ struct FramePlan {
   bool autoStats = false;     // the raster statistics pass runs (auto, every kAutoStatsEvery frames)
   int samples = 1;            // coverage samples per pixel (MSAA; 1 in each supersampling pass)
   bool fill = true;           // triangles filled (polygon mode fill), else only edges or corners
-  bool cullBack = false;
+  CullFaces cull = CullFaces::None;  // back faces the setup culls
   bool occluders = false;     // the visbuffer's occluder pass (raster_visbuffer.cpp)
   bool rowLanes = false;      // the visbuffer raster's block rows on lanes (RasterBlockRows)
   bool numberBlocks = false;  // the setup numbers the visbuffer's work items

@@ -151,7 +151,8 @@ void Renderer::prepare(const RenderSettings& rs) {
   if (!supersampling_)
     frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference, rs.post.ssao, rs.post.bloom);
   // Mipmaps are built the first time a frame needs them.
-  const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel;
+  const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel ||
+                        (rs.filter == TexFilter::Auto && rs.shading == ShadingMode::Pbr);
   if (wantMips && scene_.hasTextures && !scene_.hasMipmaps) scene_.uploadTextures(hostTextures_, true);
   if (rs.lights != uploadedLights_ || !lights_.data()) {
     std::vector<LightGPU> l;
@@ -222,7 +223,7 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   if (timer) timer->mark("vertex");
 
   Kokkos::Profiling::pushRegion("rast::setup");
-  primitiveSetup(scene_, frame_, plan.cullBack, plan.numberBlocks, plan.occluders);
+  primitiveSetup(scene_, frame_, plan.cull, plan.numberBlocks, plan.occluders);
   Kokkos::Profiling::popRegion();
   if (plan.autoStats) rasterStatistics(frame_);
   if (timer) timer->mark("setup");

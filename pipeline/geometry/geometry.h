@@ -31,6 +31,9 @@ KOKKOS_INLINE_FUNCTION mat4f drawMvp(const mat4d& vp, const mat4d& m) {
 // Writes f.tris (up to f.triCapacity) and f.counters(kRasterTris); with
 // numberBlocks, also the visbuffer method's work items (f.workOffset,
 // f.chunkBlocks, f.counters(kRasterWork); primitive_setup.cpp).
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks, bool occluders);
+// Which back faces the setup culls: none, all (--cull back), or those of
+// single-sided materials (the glTF model, --shading pbr).
+enum class CullFaces : int32_t { None = 0, All = 1, SingleSided = 2 };
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool numberBlocks, bool occluders);
 
 }  // namespace rast

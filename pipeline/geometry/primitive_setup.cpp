@@ -50,15 +50,17 @@ struct SetupCommon {
   uint32_t numDraws;
   Viewport vp;
   float gx, gy;
-  int32_t cullBack;
+  int32_t cullBack;  // CullFaces: 0 none, 1 every back face, 2 those of single-sided materials
 
-  // Drawn-vertex indices of drawn triangle t's corners.
-  KOKKOS_INLINE_FUNCTION void corners(uint32_t t, uint32_t (&vi)[3], bool& frontCCW) const {
+  // Drawn-vertex indices of drawn triangle t's corners, its front winding and
+  // whether its back faces are culled.
+  KOKKOS_INLINE_FUNCTION void corners(uint32_t t, uint32_t (&vi)[3], bool& frontCCW, bool& cull) const {
     const uint32_t d = drawOf(triDraw, drawTriStart, numDraws, t);
     const DrawGPU& dr = draws(d);
     const uint32_t base = 3 * (dr.srcTri + (t - dr.dstTri));
     for (int k = 0; k < 3; ++k) vi[k] = dr.dstVertex + indices(base + k);
     frontCCW = dr.mirrored == 0;
+    cull = cullBack == 1 || (cullBack == 2 && dr.singleSided);
   }
 
   // Clips drawn triangle t (corners vi) into a convex polygon and sets up its
@@ -66,7 +68,8 @@ struct SetupCommon {
   // returns how many did. kDepth: the pieces' depths are wanted (not when
   // only counting), from the drawn triangle's plane (depth_plane.h).
   template <bool kDepth, class Emit>
-  KOKKOS_INLINE_FUNCTION uint32_t clipAndSetUp(uint32_t t, const uint32_t (&vi)[3], bool frontCCW, Emit&& emit) const {
+  KOKKOS_INLINE_FUNCTION uint32_t clipAndSetUp(uint32_t t, const uint32_t (&vi)[3], bool frontCCW, bool cull,
+                                               Emit&& emit) const {
     ClipVert poly[kMaxClipVerts];
     for (int k = 0; k < 3; ++k) poly[k].p = clip(vi[k]);
     poly[0].b1 = 0.0f; poly[0].b2 = 0.0f;
@@ -77,7 +80,7 @@ struct SetupCommon {
     uint32_t k = 0;
     for (int i = 0; i + 2 < n; ++i) {
       RasterTri rt;
-      if (!setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cullBack != 0, frontCCW, t, rt)) continue;
+      if (!setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cull, frontCCW, t, rt)) continue;
       if (kDepth) depthFromPlane(rt, plane);
       emit(rt);
       ++k;
@@ -111,8 +114,8 @@ KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, 
                                          const uint8_t* clipCounts, uint32_t* blocks = nullptr,
                                          const uint32_t* clipBlocks = nullptr) {
   uint32_t vi[3];
-  bool frontCCW;
-  c.corners(t, vi, frontCCW);
+  bool frontCCW, cull;
+  c.corners(t, vi, frontCCW, cull);
   SnapVert s[3];
   uint32_t any = 0, all = ~0u;
   for (int k = 0; k < 3; ++k) {
@@ -132,7 +135,7 @@ KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, 
       const int32_t ry[3] = {fineResidual(s[0].y), fineResidual(s[1].y), fineResidual(s[2].y)};
       depthAtSnappedCorners(out, rx, ry);
     }
-    if (!finishTriangle(c.vp, c.cullBack != 0, frontCCW, t, out)) return 0;
+    if (!finishTriangle(c.vp, cull, frontCCW, t, out)) return 0;
     uint32_t bw;
     if (blocks) *blocks = visBlocksOf(out, bw);
     return 1;
@@ -150,7 +153,7 @@ KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, 
     if (blocks && clipBlocks) *blocks = clipBlocks[t];
     return clipCounts[t];
   }
-  return c.clipAndSetUp<false>(t, vi, frontCCW, [&](const RasterTri& piece) {
+  return c.clipAndSetUp<false>(t, vi, frontCCW, cull, [&](const RasterTri& piece) {
     uint32_t bw;
     if (blocks) *blocks += visBlocksOf(piece, bw);
   });
@@ -424,9 +427,9 @@ struct WriteChunks {
         return;
       }
       uint32_t vi[3];
-      bool frontCCW;
-      c.corners(first + i, vi, frontCCW);
-      c.clipAndSetUp<true>(first + i, vi, frontCCW, [&](const RasterTri& rt) {
+      bool frontCCW, cull;
+      c.corners(first + i, vi, frontCCW, cull);
+      c.clipAndSetUp<true>(first + i, vi, frontCCW, cull, [&](const RasterTri& rt) {
         if (o < capacity) {
           tris(o) = rt;
           uint32_t bw;
@@ -577,9 +580,9 @@ struct SetupChunksHost {
         continue;
       }
       uint32_t vi[3];  // clipped (rare)
-      bool frontCCW;
-      c.corners(first + i, vi, frontCCW);
-      c.clipAndSetUp<true>(first + i, vi, frontCCW, emit);
+      bool frontCCW, cull;
+      c.corners(first + i, vi, frontCCW, cull);
+      c.clipAndSetUp<true>(first + i, vi, frontCCW, cull, emit);
     }
     if (!direct) {
       waitBase(chunk, tag, o, item);
@@ -645,7 +648,7 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
 
 }  // namespace
 
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool numberBlocks, bool occluders) {
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool numberBlocks, bool occluders) {
   const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
   if (numberBlocks) {
     ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
@@ -664,7 +667,7 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, bool cullBack, bool n
     occ = OccluderList{f.occCount.data(), f.occStart.data(), f.occTri.data(), f.triCapacity};
   }
   SetupCommon c{s.draws, s.drawTriStart, s.triDraw, s.indices, f.clip, f.snap, s.numDraws, f.vp,
-                guardBand(f.vp.width), guardBand(f.vp.height), cullBack ? 1 : 0};
+                guardBand(f.vp.width), guardBand(f.vp.height), int32_t(cull)};
   const int gpuTeamOnHost = testHooks().gpuSetupOnHostTeam;
   if (chunks > 0 && !kOnDevice && gpuTeamOnHost > 0) {
     launchSetup<false>(c, f, chunks, s.numTris, numberBlocks, gpuTeamOnHost, occ);

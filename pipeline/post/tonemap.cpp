@@ -7,11 +7,17 @@ namespace rast {
 
 void postToneMap(PostBuffers& b, const PostView& v, const PostSettings& s) {
   auto hdr = b.hdr;
-  const int aces = s.tonemap == ToneMap::Aces ? 1 : 0;
+  const int curve = int(s.tonemap);
   Kokkos::parallel_for("rast::post::tonemap", Range(0, int64_t(v.width) * v.height), KOKKOS_LAMBDA(const int64_t i) {
     const float4 c = hdr(i);
-    hdr(i) = aces ? float4{toneAces(c.x), toneAces(c.y), toneAces(c.z), c.w}
-                  : float4{toneReinhard(c.x), toneReinhard(c.y), toneReinhard(c.z), c.w};
+    if (curve == int(ToneMap::Aces)) {
+      hdr(i) = float4{toneAces(c.x), toneAces(c.y), toneAces(c.z), c.w};
+    } else if (curve == int(ToneMap::Neutral)) {
+      const float3 t = tonePbrNeutral(float3{c.x, c.y, c.z});
+      hdr(i) = float4{t.x, t.y, t.z, c.w};
+    } else {
+      hdr(i) = float4{toneReinhard(c.x), toneReinhard(c.y), toneReinhard(c.z), c.w};
+    }
   });
 }
 

@@ -19,6 +19,7 @@
 #include "pipeline/rules/raster_rules.h"
 #include "pipeline/rules/visbuffer_blocks.h"
 #include "pipeline/raster/raster_lines.h"
+#include "pipeline/shade/pbr_shading.h"
 #include "pipeline/shade/shade.h"
 #include "pipeline/shade/texture_sampling.h"
 
@@ -36,6 +37,7 @@ struct TriFrag {
   float4 col[3];                    // when the scene has vertex colours
   float4 baseColor{1.0f, 1.0f, 1.0f, 1.0f};
   int32_t textured = 0;
+  int32_t material = -1, mirrored = 0;  // the draw's (the glTF model reads the rest of its material)
   TextureGPU tex{};
   // The raster triangle's fields that every fragment reads (bary()), and the
   // eye: copied here once per triangle. Read through `t` they were loaded
@@ -66,6 +68,9 @@ struct Shade {
   DView<TextureGPU> textures;
   DView<uint32_t> texels;
   DView<float> lut;               // sRGB decode (textures)
+  DView<float> unorm;             // i / 255 (linear textures: normals, metal/rough, occlusion)
+  DView<PunctualGPU> punctual;    // the file's lights (the glTF model)
+  int32_t numPunctual = 0;
   DView<uint32_t> encodePacked;   // sRGB encode, DeviceScene::srgbEncodePacked (packSrgb8Packed)
   uint32_t numDraws;
   int32_t hasUV, hasColor;
@@ -176,14 +181,20 @@ struct Shade {
         f.n[k] = worldNormal(v[k]);
         f.pos[k] = worldPos(v[k]);
       }
+      f.material = dr.material;
+      f.mirrored = dr.mirrored;
       if (dr.material >= 0) {
-        const MaterialGPU m = materials(dr.material);
+        const MaterialGPU& m = materials(dr.material);
         f.baseColor = m.baseColor;
         if (m.texture >= 0 && hasUV) {
           f.textured = 1;
           f.tex = textures(m.texture);
           wantUV = true;
         }
+        // The glTF model samples the material's other textures with the same coordinates.
+        if (p.mode == ShadingMode::Pbr && hasUV &&
+            (m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0))
+          wantUV = true;
       }
       if (hasColor) {
         f.col[0] = colors(f.s0);
@@ -236,6 +247,7 @@ struct Shade {
     if (posOutV) *posOutV = P;
     if (!kLit && p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
       return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, 1.0f};
+    if (!kLit && p.mode == ShadingMode::Pbr) return shadePbr(f, X, Y, ox, oy, b0, b1, b2, N, P);
 
     float4 base4 = f.baseColor;
     float lod = 0.0f;
@@ -277,6 +289,118 @@ struct Shade {
       for (int k = 0; k < int(lights.extent(0)); ++k) addLight(N, V, lights(k).direction, lights(k).intensity, diffuse, spec);
     const float3 rgb = float3{base4.x, base4.y, base4.z} * diffuse + float3{spec, spec, spec};
     return float4{rgb.x, rgb.y, rgb.z, base4.w};
+  }
+
+  // A texture of the material at uv, filtered as the frame asks; `decode`
+  // is the sRGB table for colour textures, the unorm one for data.
+  KOKKOS_INLINE_FUNCTION float4 sampleMaterial(int32_t t, float2 uv, const DView<float>& decode, float2 dx,
+                                               float2 dy) const {
+    const TextureGPU tex = textures(t);
+    if (p.filter == TexFilter::Auto)
+      return sampleSampler(tex, texels, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
+    if (p.filter == TexFilter::Trilinear)
+      return sampleTrilinear(tex, texels, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
+    if (p.filter == TexFilter::Nearest) return sampleNearest(tex, texels, decode, uv.x, uv.y);
+    return sampleBilinear(tex, texels, decode, uv.x, uv.y);
+  }
+
+  // The glTF 2.0 metallic-roughness model (pbr_shading.h) at a fragment with
+  // barycentrics b and interpolated normal N, position P: the material's
+  // factors times its textures, the file's punctual lights (else a
+  // headlight, or --light), emission, and an ambient term standing in for
+  // image-based light, scaled by the occlusion texture. Linear light.
+  KOKKOS_INLINE_FUNCTION float4 shadePbr(const TriFrag& f, int32_t X, int32_t Y, int32_t ox, int32_t oy, float b0,
+                                         float b1, float b2, float3 N, const float3& P) const {
+    MaterialGPU m{};
+    m.baseColor = float4{1.0f, 1.0f, 1.0f, 1.0f};
+    m.texture = m.mrTexture = m.normalTexture = m.occlusionTexture = m.emissiveTexture = -1;
+    m.metallic = m.roughness = m.normalScale = m.occlusionStrength = 1.0f;  // the spec's default material
+    if (f.material >= 0) m = materials(f.material);
+    const bool textured = hasUV && (m.texture >= 0 || m.mrTexture >= 0 || m.normalTexture >= 0 ||
+                                    m.occlusionTexture >= 0 || m.emissiveTexture >= 0);
+    float2 uv{0.0f, 0.0f}, dx{0.0f, 0.0f}, dy{0.0f, 0.0f};
+    if (textured) {
+      uv = uvAt(f, b0, b1, b2);
+      if (p.filter == TexFilter::Trilinear || p.filter == TexFilter::Auto) {  // analytic derivatives, as the other modes take them
+        float c0, c1, c2;
+        bary(f, f.e, X, Y, ox + kSubOne, oy, c0, c1, c2);
+        const float2 ux = uvAt(f, c0, c1, c2);
+        bary(f, f.e, X, Y, ox, oy + kSubOne, c0, c1, c2);
+        const float2 uy = uvAt(f, c0, c1, c2);
+        dx = float2{ux.x - uv.x, ux.y - uv.y};
+        dy = float2{uy.x - uv.x, uy.y - uv.y};
+      }
+    }
+    float4 base = m.baseColor;
+    if (textured && m.texture >= 0) base = base * sampleMaterial(m.texture, uv, lut, dx, dy);
+    if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
+    const float alpha = (m.flags & kMaterialOpaque) || f.material < 0 ? 1.0f : base.w;
+    const float3 baseRgb{base.x, base.y, base.z};
+    if (m.flags & kMaterialUnlit) return float4{baseRgb.x, baseRgb.y, baseRgb.z, alpha};
+
+    pbr::Surface s{baseRgb, clamp01(m.metallic), clamp01(m.roughness)};
+    if (textured && m.mrTexture >= 0) {
+      const float4 mr = sampleMaterial(m.mrTexture, uv, unorm, dx, dy);
+      s.roughness = clamp01(s.roughness * mr.y);
+      s.metallic = clamp01(s.metallic * mr.z);
+    }
+    const float3 V = normalize(f.eye - P);
+    // Back faces (drawn when the material is double-sided) turn their
+    // normal towards the viewer, as the specification says.
+    const float3 face = cross(f.pos[1] - f.pos[0], f.pos[2] - f.pos[0]);
+    const bool back = (dot(face, V) < 0.0f) != (f.mirrored != 0);
+    float3 Ng = back ? N * -1.0f : N;
+    N = Ng;
+    if (textured && m.normalTexture >= 0) {
+      // Tangent: dP/du of the triangle (position and uv are both linear
+      // over it), made orthogonal to the interpolated normal; bitangent
+      // N x T, as the Khronos renderer builds them where a file has no tangents.
+      const float3 e1 = f.pos[1] - f.pos[0], e2 = f.pos[2] - f.pos[0];
+      const float du1 = f.uv[1].x - f.uv[0].x, dv1 = f.uv[1].y - f.uv[0].y;
+      const float du2 = f.uv[2].x - f.uv[0].x, dv2 = f.uv[2].y - f.uv[0].y;
+      const float det = du1 * dv2 - du2 * dv1;
+      float3 T = det != 0.0f ? (e1 * dv2 - e2 * dv1) * (1.0f / det) : e1;
+      if (back) T = T * -1.0f;
+      T = T - Ng * dot(Ng, T);
+      if (dot(T, T) > 0.0f) {
+        T = normalize(T);
+        const float3 B = cross(Ng, T);
+        const float4 nt = sampleMaterial(m.normalTexture, uv, unorm, dx, dy);
+        N = pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T, B, Ng);
+      }
+    }
+
+    float3 color{0.0f, 0.0f, 0.0f};
+    if (numPunctual > 0) {
+      for (int k = 0; k < numPunctual; ++k) {
+        float3 L;
+        const float3 E = pbr::incidentLight(punctual(k), P, L);
+        color = color + pbr::shadeLight(s, N, V, L, E);
+      }
+    } else if (p.headlight) {
+      // Scaled by pi: a white Lambertian surface facing it reflects what
+      // the Lambert shading's headlight gives it.
+      const float I = (1.0f - p.ambient) * pbr::kPi;
+      color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
+    } else {
+      for (int k = 0; k < int(lights.extent(0)); ++k) {
+        const float I = lights(k).intensity * pbr::kPi;
+        color = color + pbr::shadeLight(s, N, V, lights(k).direction, float3{I, I, I});
+      }
+    }
+    // Ambient light in place of an environment, on the diffuse part,
+    // darkened by the occlusion texture (indirect light only).
+    float ao = 1.0f;
+    if (textured && m.occlusionTexture >= 0)
+      ao = 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, uv, unorm, dx, dy).x - 1.0f);
+    if (numPunctual == 0) color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
+    float3 emissive = m.emissive;
+    if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
+      const float4 et = sampleMaterial(m.emissiveTexture, uv, lut, dx, dy);
+      emissive = emissive * float3{et.x, et.y, et.z};
+    }
+    color = color + emissive;
+    return float4{color.x, color.y, color.z, alpha};
   }
 
   // One directional light L of intensity I: Lambert's term, and Blinn-Phong's

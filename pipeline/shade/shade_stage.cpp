@@ -88,6 +88,9 @@ shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParam
   k.textures = s.textures;
   k.texels = s.texels;
   k.lut = s.srgbToLinear;
+  k.unorm = s.unormToFloat;
+  k.punctual = s.lights;
+  k.numPunctual = int32_t(s.lights.extent(0));
   k.encodePacked = s.srgbEncodePacked;
   k.numDraws = s.numDraws;
   k.hasUV = s.hasUV ? 1 : 0;

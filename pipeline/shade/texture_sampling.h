@@ -100,4 +100,30 @@ KOKKOS_INLINE_FUNCTION float4 sampleTrilinear(const TextureGPU& t, const Texels&
   return a * (1.0f - f) + b * f;
 }
 
+// A glTF sampler's filtering (TextureGPU::magFilter, minFilter, GL enums) at
+// level of detail `lod`: the magnification filter where lod <= 0, else the
+// minification filter, with its mipmap rule when the texture has levels
+// (nearest level: the rounded lod; linear: the two levels around it).
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
+                                            float lod) {
+  constexpr int32_t kNearest = 9728, kNearestMipNearest = 9984, kLinearMipNearest = 9985, kNearestMipLinear = 9986;
+  if (!(lod > 0.0f)) return t.magFilter == kNearest ? sampleNearest(t, texels, lut, u, v) : sampleBilinear(t, texels, lut, u, v);
+  const int32_t m = t.minFilter;
+  const bool nearestTexel = m == kNearest || m == kNearestMipNearest || m == kNearestMipLinear;
+  auto level = [&](int k) {
+    const TextureGPU l = mipLevel(t, k);
+    return nearestTexel ? sampleNearest(l, texels, lut, u, v) : sampleBilinear(l, texels, lut, u, v);
+  };
+  if (m == kNearest || m == 9729 || t.levels <= 1) return level(0);
+  const float maxLod = float(t.levels - 1);
+  const float l = lod > maxLod ? maxLod : lod;
+  if (m == kNearestMipNearest || m == kLinearMipNearest) return level(int(l + 0.5f));
+  const int k = int(::floorf(l));
+  const float f = l - float(k);
+  const float4 a = level(k);
+  if (f <= 0.0f || k + 1 >= t.levels) return a;
+  return a * (1.0f - f) + level(k + 1) * f;
+}
+
 }  // namespace rast

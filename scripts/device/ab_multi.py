@@ -36,7 +36,8 @@ for r in range(rounds):
             with tempfile.TemporaryDirectory() as tmp:
                 js = os.path.join(tmp, "b.json")
                 cmd = [exe, "bench"] + args.split() + ["--size", "1920x1080", "--frames", frames, "--warmup", "20",
-                                                       "--methods", os.environ.get("AB_METHOD", "auto"), "--json", js]
+                                                       "--methods", os.environ.get("AB_METHOD", "auto"), "--json", js,
+                                                       "--shading", os.environ.get("AB_SHADING", "lambert")]
                 p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
                 if p.returncode:
                     print(f"{label} failed on {name}: {p.stderr.strip()[-300:]}", flush=True); continue

@@ -56,7 +56,8 @@ for sc in scenes:
         outs = []
         for tag, exe in (("old", a.old), ("new", a.new)):
             base = os.path.join(tmp, tag)
-            cmd = [exe, "render", sc, "--size", a.size, "-o", base + ".png", "--aov",
+            # Lambert: what both builds shade alike (newer builds shade glTF files with pbr by default).
+            cmd = [exe, "render", sc, "--size", a.size, "-o", base + ".png", "--shading", "lambert", "--aov",
                    f"depth={base}_d.pfm,primid={base}_id.bin"] + v
             r = subprocess.run(cmd, capture_output=True, text=True)
             outs.append((r.returncode, r.stderr.strip().splitlines()[-1:] if r.returncode else "", base))

@@ -440,7 +440,9 @@ def compare_model(name, path, args, w, h, env):
     res["glref_median_ms"] = float(mt.group(2)) if mt else None
     mr = GLREF_RENDERER_RE.search(gout)
     res["glref_renderer"] = mr.group(1).strip() if mr else None
-    rcmd = [args.rast, "render", path, "-o", f["r_png"], "--size", f"{w}x{h}"] + camera.split() + \
+    # glref draws every face with Lambert under a headlight: so does rast's Lambert shading
+    # (the glTF shading culls single-sided back faces).
+    rcmd = [args.rast, "render", path, "-o", f["r_png"], "--size", f"{w}x{h}", "--shading", "lambert"] + camera.split() + \
         ["--aov", f"primid={f['r_ids']},depth={f['r_depth']}"] + args.rast_args.split()
     rc, rout, rsec = run(rcmd, args.timeout, env)
     with open(os.path.join(d, "rast.log"), "w") as lf:

@@ -155,4 +155,25 @@ c["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "spot", "spot": {
 c["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
     "KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": 0.4, "scale": [2, 0.5], "texCoord": 0}}
 save("cameras_transform.gltf", c)
+# 11. the glTF material model and every light type (#37): factors, the four
+#     other texture slots on one image, emissive strength, unlit, double-sided,
+#     samplers with filters; a point light with a range, a directional one
+m = json.load(open(os.path.join(out, "textured.gltf")))
+m["nodes"] += [{"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0, 0, 2]},
+               {"extensions": {"KHR_lights_punctual": {"light": 1}}, "rotation": [0.38, 0, 0, 0.92]}]
+m["scenes"] = [{"nodes": [0, 1, 2]}]
+m["extensionsUsed"] = ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_unlit"]
+m["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 20, "range": 5, "color": [1, 0.5, 0.2]},
+                                                      {"type": "directional", "intensity": 2}]}}
+mat = m["materials"][0]
+mat["pbrMetallicRoughness"].update({"metallicFactor": 0.3, "roughnessFactor": 0.6, "baseColorFactor": [1, 0.8, 0.6, 1],
+                                    "metallicRoughnessTexture": {"index": 0}})
+mat.update({"normalTexture": {"index": 0, "scale": 0.5}, "occlusionTexture": {"index": 0, "strength": 0.7},
+            "emissiveTexture": {"index": 0}, "emissiveFactor": [0.2, 0.1, 0.0], "doubleSided": True,
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}})
+m["materials"].append({"extensions": {"KHR_materials_unlit": {}}, "alphaMode": "MASK", "alphaCutoff": 0.3})
+m["samplers"] = [{"magFilter": 9728, "minFilter": 9986, "wrapS": 33648, "wrapT": 33071}]
+for t in m["textures"]:
+    t["sampler"] = 0
+save("materials_lights.gltf", m)
 print(f"wrote {len(os.listdir(out))} seeds to {out}")

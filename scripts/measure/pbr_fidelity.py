@@ -1,0 +1,206 @@
+#!/usr/bin/python3
+"""Agreement of rast's glTF shading (`--shading pbr`) with the Khronos glTF
+Sample Renderer, the reference implementation of the glTF material model
+(issue #37; docs/gltf-support.md has the figures).
+
+For each model: a copy of the file with one directional light added when it
+has none (KHR_lights_punctual, so that both renderers light it the same way),
+rendered by rast from its own auto-framed camera and by
+../shared/tools/khronos-ref from the same camera flags, then compared with
+../shared/tools/khronos-ref/fidelity.py. The reference runs once for all
+models (its start-up filters an environment: minutes on 2 cores).
+
+  scripts/measure/pbr_fidelity.py --rast build/openmp/rast --out /tmp/fid \\
+      [--size 480x360] [--env FILE.hdr --tonemap pbr-neutral] [--extra-flags "..."] MODEL...
+
+Writes OUT/<name>.rast.png, OUT/<name>.ref.png and OUT/fidelity.json, and
+prints a Markdown table. The reference encodes its output with a 2.2 power
+curve where rast writes the sRGB curve (both clamp at 1): the table gives the
+figures for rast's PNG and, in the `gamma 2.2` columns, for rast's linear
+output (`-o F.pfm`) encoded the reference's way, which separates the
+shading's differences from that choice.
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SHARED = os.path.normpath(os.path.join(HERE, "..", "..", "..", "shared"))
+KREF = os.path.join(SHARED, "tools", "khronos-ref")
+
+
+def read_gltf(path):
+    """The JSON of a .gltf or .glb, and the GLB's binary chunk (or None)."""
+    data = open(path, "rb").read()
+    if data[:4] != b"glTF":
+        return json.loads(data.decode("utf-8")), None
+    length = struct.unpack_from("<I", data, 8)[0]
+    off, doc, binary = 12, None, None
+    while off + 8 <= length:
+        n, kind = struct.unpack_from("<II", data, off)
+        chunk = data[off + 8:off + 8 + n]
+        if kind == 0x4E4F534A:
+            doc = json.loads(chunk.decode("utf-8"))
+        elif kind == 0x004E4942:
+            binary = chunk
+        off += 8 + n
+    return doc, binary
+
+
+def write_glb(path, doc, binary):
+    js = json.dumps(doc).encode("utf-8")
+    js += b" " * ((4 - len(js) % 4) % 4)
+    out = struct.pack("<II", len(js), 0x4E4F534A) + js
+    if binary is not None:
+        b = binary + b"\0" * ((4 - len(binary) % 4) % 4)
+        out += struct.pack("<II", len(b), 0x004E4942) + b
+    open(path, "wb").write(struct.pack("<III", 0x46546C67, 2, 12 + len(out)) + out)
+
+
+def quat_from_minus_z(d):
+    """The rotation taking -Z to unit vector d, as glTF's (x, y, z, w)."""
+    a = (0.0, 0.0, -1.0)
+    c = (a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2], a[0] * d[1] - a[1] * d[0])
+    w = 1.0 + sum(x * y for x, y in zip(a, d))
+    n = math.sqrt(sum(x * x for x in c) + w * w)
+    return [c[0] / n, c[1] / n, c[2] / n, w / n]
+
+
+def with_light(src, dst_dir, direction, intensity):
+    """A copy of `src` in dst_dir that has a directional light if it had none."""
+    doc, binary = read_gltf(src)
+    has = bool(doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights"))
+    name = os.path.splitext(os.path.basename(src))[0]
+    if not has:
+        n = math.sqrt(sum(x * x for x in direction))
+        d = [x / n for x in direction]
+        doc.setdefault("extensions", {})["KHR_lights_punctual"] = {
+            "lights": [{"type": "directional", "intensity": intensity, "color": [1, 1, 1]}]}
+        used = doc.setdefault("extensionsUsed", [])
+        if "KHR_lights_punctual" not in used:
+            used.append("KHR_lights_punctual")
+        doc.setdefault("nodes", []).append({"name": "added_sun", "rotation": quat_from_minus_z(d),
+                                            "extensions": {"KHR_lights_punctual": {"light": 0}}})
+        scenes = doc.setdefault("scenes", [{"nodes": []}])
+        scenes[doc.get("scene", 0)].setdefault("nodes", []).append(len(doc["nodes"]) - 1)
+    if binary is not None:
+        out = os.path.join(dst_dir, name + ".glb")
+        write_glb(out, doc, binary)
+    else:
+        # External buffers and images stay where the file names them: copy its folder.
+        folder = os.path.join(dst_dir, name + "_src")
+        if os.path.exists(folder):
+            shutil.rmtree(folder)
+        shutil.copytree(os.path.dirname(os.path.abspath(src)), folder)
+        out = os.path.join(folder, name + ".lit.gltf")
+        json.dump(doc, open(out, "w"))
+    return name, out, not has
+
+
+def read_pfm(path):
+    """A PFM's pixels as rows of (r, g, b) floats, top row first."""
+    import numpy as np
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = (int(x) for x in f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    c = 3 if kind == b"PF" else 1
+    return data.reshape(h, w, c)[::-1]
+
+
+def write_gamma22_png(pfm, png):
+    import numpy as np
+    from PIL import Image
+    lin = np.clip(read_pfm(pfm), 0.0, 1.0)
+    Image.fromarray((np.power(lin, 1 / 2.2) * 255 + 0.5).astype(np.uint8)).save(png)
+
+
+def camera_flags(rast, scene, size, out_dir):
+    """rast's auto-framed camera for the scene, as flags (it prints them)."""
+    r = subprocess.run([rast, "render", scene, "--size", size, "-o", os.path.join(out_dir, "camera_probe.png"),
+                        "--shading", "depth"], capture_output=True, text=True)
+    for line in (r.stdout + r.stderr).splitlines():
+        if "camera (auto)" in line or "camera (" in line:
+            return line.split(") ", 1)[1].split()
+    raise SystemExit(f"pbr_fidelity: no camera line from rast for {scene}: {r.stderr.strip()}")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--rast", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--size", default="480x360")
+    ap.add_argument("--env", default=None)
+    ap.add_argument("--tonemap", default="none", help="rast's name: none|pbr-neutral")
+    ap.add_argument("--light", default="-0.5,-1,-0.7", help="direction of the added sun")
+    ap.add_argument("--intensity", type=float, default=3.0)
+    ap.add_argument("--extra-flags", default="", help="more rast render flags")
+    ap.add_argument("--skip-ref", action="store_true", help="reuse OUT/*.ref.png")
+    ap.add_argument("models", nargs="+")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    direction = [float(x) for x in a.light.split(",")]
+    jobs, rows = [], []
+    for m in a.models:
+        name, lit, added = with_light(m, a.out, direction, a.intensity)
+        cam = camera_flags(a.rast, lit, a.size, a.out)
+        rast_png = os.path.join(a.out, name + ".rast.png")
+        ref_png = os.path.join(a.out, name + ".ref.png")
+        cmd = [a.rast, "render", lit, "--size", a.size, "-o", rast_png, "--shading", "pbr", "--aa", "none",
+               "--tonemap", a.tonemap] + cam + a.extra_flags.split()
+        if a.env:
+            cmd += ["--env", a.env]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode != 0:
+            rows.append({"model": name, "error": r.stderr.strip().splitlines()[-1]})
+            continue
+        pfm = os.path.join(a.out, name + ".rast.pfm")
+        cmd[cmd.index(rast_png)] = pfm
+        subprocess.run(cmd, capture_output=True, text=True, check=True)
+        flags = dict(zip(cam[0::2], cam[1::2]))
+        job = {"scene": lit, "out": ref_png, "size": a.size, "tonemap": {"none": "none", "pbr-neutral": "khr"}[a.tonemap]}
+        for k in ("eye", "target", "up", "fovy", "near", "far"):
+            if "--" + k in flags:
+                job[k] = flags["--" + k]
+        if a.env:
+            job["env"] = a.env
+        jobs.append(job)
+        rows.append({"model": name, "rast": rast_png, "ref": ref_png, "light_added": added})
+    if not a.skip_ref and jobs:
+        batch = os.path.join(a.out, "jobs.jsonl")
+        with open(batch, "w") as f:
+            for j in jobs:
+                f.write(json.dumps(j) + "\n")
+        subprocess.run(["node", os.path.join(KREF, "khronos_ref.mjs"), "--batch", batch], check=False)
+    print("| model | interior px | within 3/255 | within 8/255 | mean diff /255 | gamma 2.2: within 3 | within 8 | mean diff | coverage IoU |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for row in rows:
+        if "error" in row:
+            print(f"| {row['model']} | | rast failed: {row['error']} | | | | |")
+            continue
+        if not os.path.exists(row["ref"]):
+            print(f"| {row['model']} | | reference failed | | | | |")
+            continue
+        def fidelity(test):
+            r = subprocess.run(["/usr/bin/python3", os.path.join(KREF, "fidelity.py"), row["ref"], test, "--json"],
+                               capture_output=True, text=True)
+            return json.loads(r.stdout)
+        f = fidelity(row["rast"])
+        g22 = row["rast"].replace(".rast.png", ".rast_g22.png")
+        write_gamma22_png(row["rast"].replace(".png", ".pfm"), g22)
+        g = fidelity(g22)
+        row["srgb"], row["gamma22"] = f, g
+        print(f"| {row['model']}{'' if row['light_added'] else ' (own lights)'} | {f['interior']} | {f['within3']:.3f} | "
+              f"{f['within8']:.3f} | {f['mae']:.2f} | {g['within3']:.3f} | {g['within8']:.3f} | {g['mae']:.2f} | "
+              f"{f['coverage_iou']:.3f} |")
+    json.dump(rows, open(os.path.join(a.out, "fidelity.json"), "w"), indent=1)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,230 @@
+// The glTF material model under `--shading pbr` (#37), checked pixel by pixel
+// against the specification's formulas evaluated here independently in
+// double precision: a square facing the camera, lit along the view axis, so
+// that at the centre pixel N = V = L = H and every term of Appendix B's BRDF
+// has a closed form. Each property has a case that fails without it: the
+// metal/dielectric mix, roughness, the metallicRoughness texture's channels,
+// emission and its strength, unlit, the lights' falloff, range window and
+// spot cone, single- and double-sided faces, normal maps.
+#include <catch2/catch.hpp>
+
+#include "base/color.h"
+#include "host/image/image_io.h"
+#include "host/scene/camera.h"
+#include "tests/support/test_support.h"
+#include "tests/unit/loader_test_helpers.h"
+
+#include <cmath>
+
+using namespace rast;
+using namespace rast::loader_test;
+using Catch::Matchers::Contains;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kSize = 33;  // odd: a pixel centre lies on the axis
+
+// A 2x2 square in the z = 0 plane facing +z, with material 0, and a light
+// (KHR_lights_punctual) when `light` is not null, placed by a node with `lightNode`'s values.
+Doc square(const json& material, const json* light = nullptr, const json& lightNode = json::object(),
+           bool withUv = false) {
+  Doc doc;
+  const std::vector<float> pos = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const std::vector<float> nrm = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
+  json attrs = {{"POSITION", doc.vec3(pos)}, {"NORMAL", doc.vec3(nrm)}};
+  if (withUv) attrs["TEXCOORD_0"] = doc.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 2);
+  const int ia = doc.accessor(doc.view(idx), kU16, idx.size(), "SCALAR");
+  doc.prim({{"attributes", attrs}, {"indices", ia}, {"material", 0}});
+  doc.j["materials"] = json::array({material});
+  if (light) {
+    json node = lightNode;
+    node["extensions"] = {{"KHR_lights_punctual", {{"light", 0}}}};
+    doc.j["nodes"].push_back(node);
+    doc.j["scenes"][0]["nodes"].push_back(1);
+    doc.j["extensions"] = {{"KHR_lights_punctual", {{"lights", json::array({*light})}}}};
+    doc.j["extensionsUsed"] = {"KHR_lights_punctual"};
+  }
+  return doc;
+}
+
+// The centre pixel's colour, linear (decoded from the 8-bit sRGB image).
+float3 centre(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) {
+  Camera cam;
+  cam.eye = eye;
+  cam.target = {0, 0, 0};
+  RenderSettings rs;
+  rs.width = rs.height = kSize;
+  rs.shading = ShadingMode::Pbr;
+  rs.filter = TexFilter::Nearest;
+  const uint32_t c = test::renderFrame(s, cam, rs).color[size_t(kSize / 2) * kSize + kSize / 2];
+  return float3{float(srgbDecode((c & 0xff) / 255.0)), float(srgbDecode(((c >> 8) & 0xff) / 255.0)),
+                float(srgbDecode(((c >> 16) & 0xff) / 255.0))};
+}
+
+// What 8-bit sRGB can tell apart: one step at the value's level, plus rounding.
+void near(float got, double want) {
+  const double tol = std::max(1.5 / 255.0, 2.0 * (srgbDecode(std::min(1.0, srgbEncode(want) + 1.0 / 255.0)) - want));
+  INFO("got " << got << ", want " << want);
+  CHECK(std::abs(double(got) - want) <= tol);
+}
+void near(const float3& got, double r, double g, double b) {
+  near(got.x, r);
+  near(got.y, g);
+  near(got.z, b);
+}
+
+// Appendix B at N = V = L = H (all cosines 1) under irradiance E: the
+// dielectric (f0 0.04) and metal (f0 = base) lobes mixed by `metal`.
+double brdfAxis(double base, double metal, double rough, double E) {
+  const double a = rough * rough;
+  const double D = 1.0 / (kPi * a * a);  // a^2 / (pi (NdotH^2 (a^2 - 1) + 1)^2) at NdotH = 1
+  const double specular = 0.25 * D;       // visibility 1 / (4 NdotL NdotV) = 1/4
+  const double diffuse = base / kPi;
+  const double dielectric = diffuse * (1.0 - 0.04) + specular * 0.04;
+  const double metallic = base * specular;
+  return E * (dielectric * (1.0 - metal) + metallic * metal);
+}
+
+const json kSun = {{"type", "directional"}, {"intensity", 1.0}};  // shines along its node's -Z: onto the square
+
+json pbrMaterial(double r, double g, double b, double metal, double rough) {
+  return {{"pbrMetallicRoughness", {{"baseColorFactor", {r, g, b, 1.0}}, {"metallicFactor", metal}, {"roughnessFactor", rough}}}};
+}
+
+}  // namespace
+
+TEST_CASE("pbr: dielectric and metal lobes, roughness", "[pbr]") {
+  TempDir d;
+  const json kNode = {{"translation", {0, 0, 5}}};
+  // A white rough dielectric, a coloured rough metal, a smoother dielectric.
+  near(centre(loadDoc(square(pbrMaterial(1, 1, 1, 0, 1), &kSun, kNode), d, "a")), brdfAxis(1, 0, 1, 1),
+       brdfAxis(1, 0, 1, 1), brdfAxis(1, 0, 1, 1));
+  near(centre(loadDoc(square(pbrMaterial(1, 0.5, 0.25, 1, 1), &kSun, kNode), d, "b")), brdfAxis(1, 1, 1, 1),
+       brdfAxis(0.5, 1, 1, 1), brdfAxis(0.25, 1, 1, 1));
+  near(centre(loadDoc(square(pbrMaterial(0.5, 0.5, 0.5, 0, 0.6), &kSun, kNode), d, "c")), brdfAxis(0.5, 0, 0.6, 1),
+       brdfAxis(0.5, 0, 0.6, 1), brdfAxis(0.5, 0, 0.6, 1));
+  // Intensity scales linearly.
+  json bright = kSun;
+  bright["intensity"] = 2.5;
+  near(centre(loadDoc(square(pbrMaterial(0.2, 0.2, 0.2, 0, 1), &bright, kNode), d, "e")).x, brdfAxis(0.2, 0, 1, 2.5));
+}
+
+TEST_CASE("pbr: emission, its strength, and unlit materials", "[pbr]") {
+  TempDir d;
+  const json kNode = {{"translation", {0, 0, 5}}};
+  json m = pbrMaterial(0, 0, 0, 0, 1);  // black: only the specular 4% and the emission
+  m["emissiveFactor"] = {0.25, 0.0, 0.0};
+  near(centre(loadDoc(square(m, &kSun, kNode), d, "e1")).x, 0.25 + brdfAxis(0, 0, 1, 1));
+  m["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", 3.0}}}};
+  near(centre(loadDoc(square(m, &kSun, kNode), d, "e2")).x, 0.75 + brdfAxis(0, 0, 1, 1));
+  // Unlit: the base colour itself, whatever the light.
+  json u = pbrMaterial(0.3, 0.6, 0.9, 1, 0.2);
+  u["extensions"] = {{"KHR_materials_unlit", json::object()}};
+  json strong = kSun;
+  strong["intensity"] = 40.0;
+  near(centre(loadDoc(square(u, &strong, kNode), d, "u")), 0.3, 0.6, 0.9);
+}
+
+TEST_CASE("pbr: point and spot lights fall off as KHR_lights_punctual says", "[pbr]") {
+  TempDir d;
+  const json m = pbrMaterial(1, 1, 1, 0, 1);
+  // A point light 2 units in front: inverse square; with range 4, the window 1 - (d/r)^4.
+  json point = {{"type", "point"}, {"intensity", 8.0}};
+  const json at2 = {{"translation", {0, 0, 2}}};
+  near(centre(loadDoc(square(m, &point, at2), d, "p")).x, brdfAxis(1, 0, 1, 8.0 / 4.0));
+  point["range"] = 4.0;
+  near(centre(loadDoc(square(m, &point, at2), d, "pr")).x, brdfAxis(1, 0, 1, 8.0 / 4.0 * (1.0 - std::pow(0.5, 4))));
+  // A spot on the axis lights the centre fully; turned 60 degrees away
+  // (outside its 45-degree outer cone), not at all; between the cones,
+  // the squared linear ramp in cos(angle).
+  json spot = {{"type", "spot"}, {"intensity", 8.0}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.6}}}};
+  near(centre(loadDoc(square(m, &spot, at2), d, "s")).x, brdfAxis(1, 0, 1, 2.0));
+  const double ang = 0.4, s = std::sin(ang / 2), c = std::cos(ang / 2);
+  const json turned = {{"translation", {0, 0, 2}}, {"rotation", {s, 0, 0, c}}};
+  const double t = (std::cos(ang) - std::cos(0.6)) / (std::cos(0.2) - std::cos(0.6));
+  near(centre(loadDoc(square(m, &spot, turned), d, "s2")).x, brdfAxis(1, 0, 1, 2.0 * t * t));
+  const json away = {{"translation", {0, 0, 2}}, {"rotation", {std::sin(0.5236), 0, 0, std::cos(0.5236)}}};
+  near(centre(loadDoc(square(m, &spot, away), d, "s3")).x, 0.0);
+}
+
+TEST_CASE("pbr: single-sided back faces are culled, double-sided ones turn their normal", "[pbr]") {
+  TempDir d;
+  // Seen from behind (eye at -z), lit from behind.
+  const json behind = {{"translation", {0, 0, -5}}, {"rotation", {0, 1, 0, 0}}};
+  json m = pbrMaterial(1, 1, 1, 0, 1);
+  const Scene single = loadDoc(square(m, &kSun, behind), d, "single");
+  near(centre(single, {0, 0, -3}), 0, 0, 0);  // culled: the background
+  m["doubleSided"] = true;
+  near(centre(loadDoc(square(m, &kSun, behind), d, "double"), {0, 0, -3}).x, brdfAxis(1, 0, 1, 1));
+  // The Lambert shading keeps drawing every face, as glref does.
+  Camera cam;
+  cam.eye = {0, 0, -3};
+  RenderSettings rs;
+  rs.width = rs.height = kSize;
+  rs.shading = ShadingMode::Lambert;
+  CHECK(test::renderFrame(single, cam, rs).ids[size_t(kSize / 2) * kSize + kSize / 2] != 0u);
+}
+
+TEST_CASE("pbr: metallicRoughness and normal textures", "[pbr]") {
+  TempDir d;
+  const json kNode = {{"translation", {0, 0, 5}}};
+  // One texel each: metallic-roughness (G = roughness 0.6, B = metal 1), a
+  // normal map tilted 90 degrees towards +u (tangent-space (1, 0, 0)), a flat one.
+  writePng(d.file("mr.png"), 1, 1, {0xffff9900u});       // R 0, G 0x99 = 0.6, B 0xff
+  writePng(d.file("tilt.png"), 1, 1, {0xff8080ffu});  // (255, 128, 128): x = 1
+  writePng(d.file("flat.png"), 1, 1, {0xffff8080u});     // (128, 128, 255): z = 1
+  auto textured = [&](const json& extra, const char* image, const json& base = pbrMaterial(1, 0.5, 0.25, 1, 1)) {
+    json m = base;
+    for (auto it = extra.begin(); it != extra.end(); ++it) {
+      if (it.key() == "metallicRoughnessTexture") m["pbrMetallicRoughness"][it.key()] = it.value();
+      else m[it.key()] = it.value();
+    }
+    Doc doc = square(m, &kSun, kNode, true);
+    doc.j["textures"] = json::array({{{"source", 0}}});
+    doc.j["images"] = json::array({{{"uri", image}}});
+    return doc;
+  };
+  const float3 mr = centre(loadDoc(textured({{"metallicRoughnessTexture", {{"index", 0}}}}, "mr.png"), d, "mr"));
+  near(mr, brdfAxis(1, 1, 0.6, 1), brdfAxis(0.5, 1, 0.6, 1), brdfAxis(0.25, 1, 0.6, 1));
+  // A white dielectric lit along the normal: a flat normal map changes
+  // nothing; one that tilts the normal 90 degrees away from the light
+  // leaves it dark (a grazing diffuse lobe and a 4% specular one).
+  const json white = pbrMaterial(1, 1, 1, 0, 0.5);
+  const float3 flat = centre(loadDoc(textured({{"normalTexture", {{"index", 0}}}}, "flat.png", white), d, "flat"));
+  near(flat.x, brdfAxis(1, 0, 0.5, 1));
+  const float3 tilt = centre(loadDoc(textured({{"normalTexture", {{"index", 0}}}}, "tilt.png", white), d, "tilt"));
+  CHECK(tilt.x < 0.01f);
+  // scale 0 flattens any map back to the surface normal.
+  const json flatten = {{"normalTexture", {{"index", 0}, {"scale", 0.0}}}};
+  near(centre(loadDoc(textured(flatten, "tilt.png", white), d, "z")).x, brdfAxis(1, 0, 0.5, 1));
+}
+
+TEST_CASE("pbr: out-of-range material and light values are refused in one line", "[pbr]") {
+  TempDir d;
+  auto bad = [&](const json& m, const char* message) {
+    INFO(m.dump());
+    CHECK_THAT(docError(square(m), d, "bad"), Contains(message));
+  };
+  bad(pbrMaterial(1.5, 0, 0, 0, 1), "baseColorFactor must be a number in [0, 1]");
+  bad(pbrMaterial(1, 1, 1, -0.5, 1), "metallicFactor");
+  bad(pbrMaterial(1, 1, 1, 0, 2), "roughnessFactor");
+  json m = pbrMaterial(1, 1, 1, 0, 1);
+  m["alphaMode"] = "SOMETIMES";
+  bad(m, "alphaMode must be OPAQUE, MASK or BLEND");
+  m = pbrMaterial(1, 1, 1, 0, 1);
+  m["emissiveFactor"] = {2, 0, 0};
+  bad(m, "emissiveFactor");
+  m["emissiveFactor"] = {1, 0, 0};
+  m["extensions"] = {{"KHR_materials_emissive_strength", {{"emissiveStrength", -1}}}};
+  bad(m, "emissiveStrength must not be negative");
+  const json node = {{"translation", {0, 0, 5}}};
+  const json spot = {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.8}, {"outerConeAngle", 0.4}}}};
+  CHECK_THAT(docError(square(pbrMaterial(1, 1, 1, 0, 1), &spot, node), d, "spot"), Contains("spot cone angles"));
+  const json weird = {{"type", "laser"}};
+  CHECK_THAT(docError(square(pbrMaterial(1, 1, 1, 0, 1), &weird, node), d, "laser"), Contains("type must be"));
+  Doc missing = square(pbrMaterial(1, 1, 1, 0, 1), &kSun, node);
+  missing.j["nodes"][1]["extensions"]["KHR_lights_punctual"]["light"] = 7;
+  CHECK_THAT(docError(missing, d, "missing"), Contains("lights[7] does not exist"));
+}
