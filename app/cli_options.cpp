@@ -43,6 +43,11 @@ void SceneOptions::addTo(CLI::App& app) {
                                              "material model and the file's lights, for glTF files; lambert for builtin scenes)");
   app.add_option("--filter", filter, "texture filter: auto|nearest|bilinear|trilinear (auto: the glTF samplers' filters under pbr, bilinear otherwise)")->capture_default_str();
   app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8 (default: none; msaa4 for the default scene's image)");
+  app.add_option("--anisotropy", anisotropy,
+                 "anisotropic filtering's most taps, 1..16, where a glTF sampler filters between mipmap levels "
+                 "(--filter auto, the glTF shading; 16 as the Khronos Sample Renderer asks WebGL for)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
   app.add_flag("--reference", reference, "ground truth: 16x16 stratified samples per pixel (slow on purpose)");
   app.add_option("--reference-grid", referenceGrid, "reference samples per pixel side")->capture_default_str();
   app.add_option("--interp", interp, "attribute interpolation: perspective|affine (affine only to compare)")
@@ -93,6 +98,7 @@ RenderSettings SceneOptions::settings() const {
   rs.cull = parseCull(cull);
   rs.shading = shading.empty() ? ShadingMode::Lambert : parseShading(shading);
   rs.filter = parseFilter(filter);
+  rs.anisotropy = anisotropy;
   rs.raster = parseRaster(raster);
   parseAA(aa.empty() ? "none" : aa, rs);
   rs.reference = reference;

@@ -37,6 +37,7 @@ struct SceneOptions {
   std::string polygon = "fill";  // points and lines (docs/points-lines.md)
   bool wireframe = false, hiddenLine = false;
   double lineWidth = 1.0, pointSize = 1.0;
+  int anisotropy = 16;  // anisotropic filtering's most taps (--filter auto, the glTF shading)
   // Security and resource limits (docs/security.md).
   bool allowExternalFiles = false;
   std::string maxMemory;  // empty: defaultMemoryBudget()

@@ -58,6 +58,7 @@ ShadeParams shadeParamsFor(const RenderSettings& rs, const FrameBuffers& f, cons
   ShadeParams sp{};
   sp.mode = rs.shading;
   sp.filter = rs.filter;
+  sp.anisotropy = rs.anisotropy;
   sp.frame = f.uniforms;
   sp.ambient = rs.ambient;
   sp.specular = rs.specular;
