@@ -166,7 +166,8 @@ EnvOptions neutralOptions() {
   EnvOptions o;
   o.faceSize = 64;
   o.lowestMipLevel = 2;
-  o.diffuseSize = 32;
+  o.diffuseSize = 16;
+  o.lutSize = 128;
   return o;
 }
 
@@ -197,6 +198,20 @@ void setEnvironmentLook(EnvironmentGPU& env, const EnvOptions& o) {
   env.sinRot = float(std::sin(r));
   env.intensity = o.intensity;
   env.backgroundLod = o.backgroundBlur * float(env.mipCount - 1);
+}
+
+EnvironmentGPU loadEnvironment(const std::string& path, const EnvOptions& o, MemoryLedger& ledger) {
+  if (!path.empty()) {
+    const HdrImage img = readHdr(path, ledger);
+    EnvironmentGPU env = buildEnvironment(img, o, ledger);
+    ledger.release(img.bytes());  // the host panorama goes when this returns
+    return env;
+  }
+  EnvOptions n = neutralOptions();
+  n.intensity = o.intensity;
+  n.rotationDegrees = o.rotationDegrees;
+  n.backgroundBlur = o.backgroundBlur;
+  return buildEnvironment(neutralEnvironment(), n, ledger);
 }
 
 EnvironmentGPU buildEnvironment(const HdrImage& img, const EnvOptions& o, MemoryLedger& ledger) {
@@ -305,7 +320,8 @@ EnvironmentGPU buildEnvironment(const HdrImage& img, const EnvOptions& o, Memory
       float weight = 0.0f;
       for (uint32_t k = k0; k < k1; ++k) {
         const float4 d = gDirs(k);
-        const float3 L = normalize(t * d.x + b * d.y + n * d.z);
+        // Unit up to rounding, and a cube lookup needs no unit vector.
+        const float3 L = t * d.x + b * d.y + n * d.z;
         sum = sum + cubeTrilinear(cube, src.offset, src.size, src.levels, L, gLods(k)) * d.w;
         weight += d.w;
       }

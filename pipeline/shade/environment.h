@@ -32,8 +32,9 @@ struct EnvOptions {
 
 // Settings for the built-in neutral environment (hdr_image.h), which has no
 // detail finer than its soft key light: a 64-texel cube (5 specular levels,
-// 64 down to 4, so lod = roughness * 4 as with the reference's settings) and a
-// 32-texel irradiance map; about 1/15 of the reference settings' sampling.
+// 64 down to 4, so lod = roughness * 4 as with the reference's settings), a
+// 16-texel irradiance map and a 128x128 table: 2e7 samples, a tenth of the
+// reference settings' (docs/lighting.md).
 EnvOptions neutralOptions();
 
 // The filtered environment on the device. Cube levels are stored face after
@@ -63,6 +64,12 @@ uint64_t environmentBuildBytes(const EnvOptions& o, int panoramaWidth, int panor
 // Deterministic: the same bits on every run and backend (fixed sample
 // sequences, each texel summed in a fixed order by one thread, no atomics).
 EnvironmentGPU buildEnvironment(const HdrImage& img, const EnvOptions& o, MemoryLedger& ledger);
+
+// The environment of `--env FILE` (readHdr, then buildEnvironment with `o`),
+// or with an empty path the built-in neutral one (neutralEnvironment(),
+// filtered with neutralOptions() and o's intensity, rotation and blur).
+// The host panorama is charged while it lives and released after.
+EnvironmentGPU loadEnvironment(const std::string& path, const EnvOptions& o, MemoryLedger& ledger);
 
 // Changes what needs no filtering again: intensity, rotation, background blur.
 void setEnvironmentLook(EnvironmentGPU& env, const EnvOptions& o);

@@ -186,3 +186,30 @@ TEST_CASE("hdr: the built-in neutral environment", "[hdr]") {
   CHECK(at(0, 127) == Approx(0.2).margin(0.001));  // floor
   CHECK(mx > 5.0f);                                 // the key light
 }
+
+TEST_CASE("hdr: damaged files decode or are refused, never more", "[hdr]") {
+  // A fixed sequence of byte changes to a run-length file (the reader's
+  // hardest path): each either decodes to the header's size or throws Error,
+  // whose message is one line; none reads out of bounds (sanitizer builds)
+  // or charges more than the header's texels.
+  const std::vector<uint8_t> good = rleFile(40, 6);
+  uint32_t seed = 12345;
+  auto next = [&] { return seed = seed * 1664525u + 1013904223u; };
+  int refused = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::vector<uint8_t> f = good;
+    const int edits = 1 + int(next() % 4);
+    for (int e = 0; e < edits; ++e) f[next() % f.size()] = uint8_t(next() >> 24);
+    if (next() % 4 == 0) f.resize(next() % f.size());
+    MemoryLedger ledger(uint64_t(1) << 30);
+    try {
+      const HdrImage img = decode(f, ledger);
+      CHECK(img.rgb.size() == size_t(img.width) * img.height * 3);
+      CHECK(ledger.used() == img.bytes());
+    } catch (const Error& e) {
+      ++refused;
+      CHECK(std::string(e.what()).find('\n') == std::string::npos);
+    }
+  }
+  CHECK(refused > 0);
+}
