@@ -15,7 +15,9 @@ fidelity.py's (within3, within8, mae over the interior pixels).
   python3 scripts/measure/ibl_spheres.py --tests build/openmp/tests/rast_tests \\
       [--env ../shared/envs/chinese_garden_1k.hdr ...] [--out build/ibl-spheres]
 
-Without --env: both shared environments. Standard library only; the
+Without --env: both shared environments. --show-env draws the environment
+behind the spheres on both sides (the reference blurs it as rast's
+envBackground does) and compares every pixel. Standard library only; the
 reference's first filtering of an environment takes minutes on 2 cores.
 """
 import argparse
@@ -84,6 +86,7 @@ def main():
     ap.add_argument("--env", nargs="*", default=None)
     ap.add_argument("--out", default=os.path.join(REPO, "build", "ibl-spheres"))
     ap.add_argument("--khronos-ref", default=os.path.join(SHARED, "tools", "khronos-ref"))
+    ap.add_argument("--show-env", action="store_true", help="the environment as the background too (envBackground)")
     a = ap.parse_args()
     envs = a.env if a.env is not None else [os.path.join(SHARED, "envs", n) for n in
                                             ("chinese_garden_1k.hdr", "qwantani_afternoon_puresky_1k.hdr")]
@@ -93,9 +96,12 @@ def main():
     jobs, rows = [], []
     for env in envs:
         name = os.path.splitext(os.path.basename(env))[0]
+        name += "_shown" if a.show_env else ""
         jobs.append({"scene": scene, "out": os.path.join(a.out, name + "_ref.png"), "size": "%dx%d" % (W, H),
                      "eye": "0,0,%g" % EYE_Z, "target": "0,0,0", "up": "0,1,0", "fovy": str(FOVY), "near": "1",
                      "far": "30", "env": env, "tonemap": "none"})
+        if a.show_env:
+            jobs[-1]["show-env"] = True
     batch = os.path.join(a.out, "jobs.jsonl")
     with open(batch, "w") as f:
         for j in jobs:
@@ -104,8 +110,12 @@ def main():
     for env, j in zip(envs, jobs):
         mine = j["out"].replace("_ref.png", "_rast.png")
         subprocess.run([a.tests, "[.ibl_spheres]"], check=True,
-                       env=dict(os.environ, RAST_IBL_ENV=env, RAST_IBL_OUT=mine, OMP_PROC_BIND="false"))
-        r = subprocess.run([os.path.join(a.khronos_ref, "fidelity.py"), j["out"], mine, "--json"], check=True,
+                       env=dict(os.environ, RAST_IBL_ENV=env, RAST_IBL_OUT=mine, OMP_PROC_BIND="false",
+                                RAST_IBL_SHOW_ENV="1" if a.show_env else "0"))
+        # With the background shown, every pixel is covered: fidelity.py then
+        # compares the whole image (its background colour matches nothing).
+        r = subprocess.run([os.path.join(a.khronos_ref, "fidelity.py"), j["out"], mine, "--json"] +
+                           (["--bg", "1,0,1"] if a.show_env else []), check=True,
                            capture_output=True, text=True)
         fig = json.loads(r.stdout)
         rows.append((os.path.basename(env), fig))
