@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rast {
@@ -189,6 +190,53 @@ uint64_t environmentBuildBytes(const EnvOptions& o, int w, int h) {
   const uint64_t tables = uint64_t(o.ggxSamples) * kMaxEnvLevels * (sizeof(float4) + sizeof(float)) +
                           uint64_t(o.lambertSamples + o.lutSamples) * sizeof(float4);
   return mulSat(mulSat(uint64_t(w), uint64_t(h)), 3 * sizeof(float)) + texels * sizeof(float4) + tables;
+}
+
+EnvViewRays envViewRays(const mat4d& vp, int width, int height) {
+  // The inverse by Gauss-Jordan elimination with partial pivoting, in double
+  // (a[row][col] of the column-major m).
+  double a[4][8];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      a[r][c] = vp.m[c * 4 + r];
+      a[r][4 + c] = r == c ? 1.0 : 0.0;
+    }
+  for (int c = 0; c < 4; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < 4; ++r)
+      if (std::fabs(a[r][c]) > std::fabs(a[piv][c])) piv = r;
+    if (!(std::fabs(a[piv][c]) > 1e-300)) return {{0, 0, -1}, {0, 0, 0}, {0, 0, 0}};  // singular: any ray
+    for (int k = 0; k < 8; ++k) std::swap(a[c][k], a[piv][k]);
+    const double d = a[c][c];
+    for (int k = 0; k < 8; ++k) a[c][k] /= d;
+    for (int r = 0; r < 4; ++r)
+      if (r != c) {
+        const double f = a[r][c];
+        for (int k = 0; k < 8; ++k) a[r][k] -= f * a[c][k];
+      }
+  }
+  // The world-space ray through NDC (x, y): unproject at depths +-0.5.
+  auto ray = [&](double x, double y, double r[3]) {
+    double p[2][3];
+    for (int k = 0; k < 2; ++k) {
+      const double z = k ? 0.5 : -0.5, c[4] = {x, y, z, 1.0};
+      double q[4];
+      for (int row = 0; row < 4; ++row)
+        q[row] = a[row][4] * c[0] + a[row][5] * c[1] + a[row][6] * c[2] + a[row][7] * c[3];
+      for (int i = 0; i < 3; ++i) p[k][i] = q[i] / q[3];
+    }
+    for (int i = 0; i < 3; ++i) r[i] = p[1][i] - p[0][i];
+  };
+  // Pixel (px, py) from the top has NDC (2 (px + 0.5) / w - 1, 1 - 2 (py + 0.5) / h).
+  double r0[3], rx[3], ry[3];
+  ray(1.0 / width - 1.0, 1.0 - 1.0 / height, r0);
+  ray(3.0 / width - 1.0, 1.0 - 1.0 / height, rx);
+  ray(1.0 / width - 1.0, 1.0 - 3.0 / height, ry);
+  EnvViewRays out;
+  out.d00 = {float(r0[0]), float(r0[1]), float(r0[2])};
+  out.dx = {float(rx[0] - r0[0]), float(rx[1] - r0[1]), float(rx[2] - r0[2])};
+  out.dy = {float(ry[0] - r0[0]), float(ry[1] - r0[1]), float(ry[2] - r0[2])};
+  return out;
 }
 
 void setEnvironmentLook(EnvironmentGPU& env, const EnvOptions& o) {

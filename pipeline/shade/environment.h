@@ -74,4 +74,16 @@ EnvironmentGPU loadEnvironment(const std::string& path, const EnvOptions& o, Mem
 // Changes what needs no filtering again: intensity, rotation, background blur.
 void setEnvironmentLook(EnvironmentGPU& env, const EnvOptions& o);
 
+// The view ray of every pixel for the background (envBackground), as an
+// affine function of the pixel: dir(px, py) = d00 + dx px + dy py (not unit),
+// px from the left, py from the top row, for a width x height image seen
+// through `viewProj` (world to clip, column-major, perspective or
+// orthographic). Computed on the host once per camera; each ray is the
+// difference of the pixel centre's points at NDC depth +0.5 and -0.5, so it
+// needs no eye position and holds for an orthographic camera too.
+struct EnvViewRays {
+  float3 d00, dx, dy;
+};
+EnvViewRays envViewRays(const mat4d& viewProj, int width, int height);
+
 }  // namespace rast

@@ -97,4 +97,11 @@ KOKKOS_INLINE_FUNCTION float3 envBackground(const EnvironmentGPU& e, float3 dir)
          e.intensity;
 }
 
+// The background at pixel (px, py) (from the left and the top) of the image
+// `rays` was made for (envViewRays, environment.h).
+KOKKOS_INLINE_FUNCTION float3 envBackgroundAt(const EnvironmentGPU& e, const EnvViewRays& rays, int32_t px,
+                                              int32_t py) {
+  return envBackground(e, normalize(rays.d00 + rays.dx * float(px) + rays.dy * float(py)));
+}
+
 }  // namespace rast

@@ -501,3 +501,43 @@ TEST_CASE("ibl: the irradiance of a shared environment against the exact integra
 }
 
 }  // namespace rast
+
+namespace rast {
+
+TEST_CASE("ibl: the background's view rays of a perspective and an orthographic camera", "[ibl]") {
+  // Eye at (1, 2, 3) looking down -Z: clip = P * translate(-eye), column-major.
+  auto mul = [](const mat4d& a, const mat4d& b) {
+    mat4d r{};
+    for (int c = 0; c < 4; ++c)
+      for (int row = 0; row < 4; ++row)
+        for (int k = 0; k < 4; ++k) r.m[c * 4 + row] += a.m[k * 4 + row] * b.m[c * 4 + k];
+    return r;
+  };
+  mat4d t{};
+  t.m[0] = t.m[5] = t.m[10] = t.m[15] = 1.0;
+  t.m[12] = -1.0, t.m[13] = -2.0, t.m[14] = -3.0;
+  const int w = 64, h = 32;
+  const double n = 0.1, f = 100.0, tanHalf = std::tan(0.5 * 0.9), aspect = double(w) / h;
+  mat4d p{};
+  p.m[0] = 1.0 / (tanHalf * aspect), p.m[5] = 1.0 / tanHalf, p.m[10] = (n + f) / (n - f), p.m[11] = -1.0;
+  p.m[14] = 2.0 * n * f / (n - f);
+  const EnvViewRays rays = envViewRays(mul(p, t), w, h);
+  for (auto px : {std::pair<int, int>{0, 0}, {63, 0}, {0, 31}, {40, 9}, {63, 31}}) {
+    const float3 got = normalize(rays.d00 + rays.dx * float(px.first) + rays.dy * float(px.second));
+    const float3 want = unit(float((2.0 * (px.first + 0.5) / w - 1.0) * tanHalf * aspect),
+                             float((1.0 - 2.0 * (px.second + 0.5) / h) * tanHalf), -1.0f);
+    INFO("pixel " << px.first << ", " << px.second);
+    CHECK(got.x == Approx(want.x).margin(1e-5));
+    CHECK(got.y == Approx(want.y).margin(1e-5));
+    CHECK(got.z == Approx(want.z).margin(1e-5));
+  }
+  // Orthographic: every ray is the view direction.
+  mat4d o{};
+  o.m[0] = 0.5, o.m[5] = 0.25, o.m[10] = -2.0 / (f - n), o.m[14] = -(f + n) / (f - n), o.m[15] = 1.0;
+  const EnvViewRays orays = envViewRays(mul(o, t), w, h);
+  const float3 corner = normalize(orays.d00 + orays.dx * 63.0f + orays.dy * 31.0f);
+  CHECK(corner.z == Approx(-1.0f).margin(1e-6));
+  CHECK(normalize(orays.d00).z == Approx(-1.0f).margin(1e-6));
+}
+
+}  // namespace rast
