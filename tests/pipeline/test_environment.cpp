@@ -522,7 +522,8 @@ TEST_CASE("ibl: the background's view rays of a perspective and an orthographic 
   p.m[0] = 1.0 / (tanHalf * aspect), p.m[5] = 1.0 / tanHalf, p.m[10] = (n + f) / (n - f), p.m[11] = -1.0;
   p.m[14] = 2.0 * n * f / (n - f);
   const EnvViewRays rays = envViewRays(mul(p, t), w, h);
-  for (auto px : {std::pair<int, int>{0, 0}, {63, 0}, {0, 31}, {40, 9}, {63, 31}}) {
+  const std::vector<std::pair<int, int>> pixels = {{0, 0}, {63, 0}, {0, 31}, {40, 9}, {63, 31}};
+  for (const auto& px : pixels) {
     const float3 got = normalize(rays.d00 + rays.dx * float(px.first) + rays.dy * float(px.second));
     const float3 want = unit(float((2.0 * (px.first + 0.5) / w - 1.0) * tanHalf * aspect),
                              float((1.0 - 2.0 * (px.second + 0.5) / h) * tanHalf), -1.0f);

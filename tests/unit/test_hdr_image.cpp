@@ -130,7 +130,8 @@ TEST_CASE("hdr: files that are not Radiance .hdr, or absurdly large, are refused
   std::string noEnd = "#?RADIANCE\n" + std::string(70000, 'x');
   CHECK(refusal(std::vector<uint8_t>(noEnd.begin(), noEnd.end())).find("64 KiB") != std::string::npos);
   // Over the caps: refused from the header, with nothing charged.
-  for (auto wh : {std::pair<int, int>{20000, 10}, {10, 20000}, {16384, 16384}, {0, 5}}) {
+  const std::vector<std::pair<int, int>> sizes = {{20000, 10}, {10, 20000}, {16384, 16384}, {0, 5}};
+  for (const auto& wh : sizes) {
     MemoryLedger ledger;
     const std::vector<uint8_t> f = header(wh.first, wh.second);
     REQUIRE_THROWS_AS(decode(f, ledger), Error);
