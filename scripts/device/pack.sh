@@ -6,6 +6,7 @@
 #   .device/openmp/rast                          a CPU build, the parity reference
 #   .device/assimp/                              Debian's assimp glTF2 test models
 #   .device/shared/models/                       ../shared/models, when present
+#   .device/shared/envs/                         ../shared/envs (the .hdr environments), when present
 #   .device/lib/                                 host runtime libraries the CPU build needs
 #                                                (libgomp), in case the target lacks them
 #   .device/kokkos_count.so                      Kokkos Tools launch counter (scripts/device/kokkos_count.cpp)
@@ -71,6 +72,10 @@ if [ -d "$shared/models" ]; then
   cp -r "$shared/models" "$dev/shared/models"
 else
   echo "pack.sh: note: $shared/models absent; tests on shared models will skip" >&2
+fi
+if [ -d "$shared/envs" ]; then  # rast_tests "[.bench]" filters ../shared/envs/chinese_garden_1k.hdr
+  mkdir -p "$dev/shared"
+  cp -r "$shared/envs" "$dev/shared/envs"
 fi
 
 if [ -x "$glref" ]; then
