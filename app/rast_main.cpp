@@ -19,6 +19,8 @@
 #include "app/cli_options.h"
 #include "app/progress.h"
 #include "app/scene_info.h"
+#include "app/views.h"
+#include "host/scene/camera_list.h"
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
@@ -59,48 +61,12 @@ AovRequest parseAovs(const std::vector<std::string>& items) {
 // AOVs named *.npy are written as NumPy arrays, top row first (host/image/image_io.h).
 bool isNpy(const std::string& f) { return f.size() > 4 && (f.compare(f.size() - 4, 4, ".npy") == 0 || f.compare(f.size() - 4, 4, ".NPY") == 0); }
 
-int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<std::string>& aovItems) {
-  RenderSettings rs = so.settings();
-  const AovRequest aov = parseAovs(aovItems);
-  rs.wantDepth = !aov.depth.empty();
-  rs.wantPrimId = !aov.primid.empty();
-  rs.wantNormals = !aov.normals.empty();
-  const auto endsWith = [&out](const char* ext) {
-    const std::string e(ext);
-    return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
-  };
-  if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
-  rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
-  if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
-  // Every output is checked before the (possibly long) render, not after it:
-  // writable, and neither an input of the run nor another of its outputs.
-  checkOutputPath(out, "-o");
-  OutputSet outputs;
-  outputs.addOutput(out, "-o");
-  for (const auto& [file, what] : {std::pair{&aov.depth, "--aov depth"}, std::pair{&aov.primid, "--aov primid"},
-                                   std::pair{&aov.normals, "--aov normals"}, std::pair{&aov.ao, "--aov ao"}})
-    if (!file->empty()) {
-      checkOutputPath(*file, "--aov");
-      outputs.addOutput(*file, what);
-    }
-  if (!so.scene.empty() && so.scene.rfind("builtin:", 0) != 0) outputs.addInput(so.scene, "the scene file");
-  outputs.check();
-  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
-  for (const std::string& f : scene.sourceFiles) outputs.addInput(f, "a file the scene reads");
-  outputs.check();
-  const Camera cam = so.camera(scene);
-  so.applySceneLook(scene, rs, /*still=*/true);
-  if (!so.cameraGiven())
-    std::printf("rast: camera (%s) %s\n", so.fileCamera.empty() ? cameraOrigin(scene) : ("file camera " + so.fileCamera).c_str(),
-                cam.flags().c_str());
-  Renderer r(scene, so.memoryBudget());
-  Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
-  if (progress.active()) r.onPass = [&progress](int done, int total) { progress.update(done, total); };
-  const FrameStats st = r.render(cam, rs);
-  // Every output goes to a temporary file beside its path first; only when all
-  // are complete are they renamed into place, so a failed write leaves every
-  // file that was there as it was (host/image/safe_output.h). Any AOV may be
-  // a .npy (numpy, top row first) instead of its PFM / ids file.
+// Writes the last frame's outputs: every file goes to a temporary file beside
+// its path first; only when all are complete are they renamed into place, so a
+// failed write leaves every file that was there as it was
+// (host/image/safe_output.h). Any AOV may be a .npy (numpy, top row first)
+// instead of its PFM / ids file.
+void writeOutputs(const Renderer& r, const RenderSettings& rs, const AovRequest& aov, const std::string& out) {
   std::vector<std::unique_ptr<AtomicFile>> files;
   const auto open = [&files](const std::string& path) -> AtomicFile& {
     files.push_back(std::make_unique<AtomicFile>(path));
@@ -151,8 +117,76 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
     writePng(open(out), rs.width, rs.height, r.colorTopDown());
   }
   for (const auto& f : files) f->commit();
-  std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s, aa %s)\n", printable(out).c_str(), rs.width,
-              rs.height, st.trianglesIn, st.rasterTris, toString(st.method), aaName(rs).c_str());
+}
+
+// The outputs of view `v` (many views: each name's %d replaced by v).
+AovRequest viewAovs(const AovRequest& a, bool many, size_t v) {
+  if (!many) return a;
+  AovRequest r;
+  for (auto [src, dst] : {std::pair{&a.depth, &r.depth}, std::pair{&a.primid, &r.primid},
+                          std::pair{&a.normals, &r.normals}, std::pair{&a.ao, &r.ao}})
+    if (!src->empty()) *dst = viewPath(*src, v, "--aov");
+  return r;
+}
+
+int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<std::string>& aovItems,
+              const std::string& cameraFile) {
+  RenderSettings rs = so.settings();
+  const AovRequest aov = parseAovs(aovItems);
+  rs.wantDepth = !aov.depth.empty();
+  rs.wantPrimId = !aov.primid.empty();
+  rs.wantNormals = !aov.normals.empty();
+  const auto endsWith = [&out](const char* ext) {
+    const std::string e(ext);
+    return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
+  };
+  if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
+  rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
+  if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
+  const bool many = !cameraFile.empty();
+  // Every output is checked before the (possibly long) render, not after it:
+  // writable, and neither an input of the run nor another of its outputs. With
+  // many views every name is checked once the views are known.
+  const auto checkOutputs = [&](size_t views, const Scene* scene) {
+    OutputSet outputs;
+    for (size_t v = 0; v < views; ++v) {
+      const std::string o = many ? viewPath(out, v, "-o") : out;
+      const AovRequest a = viewAovs(aov, many, v);
+      checkOutputPath(o, "-o");
+      outputs.addOutput(o, "-o");
+      for (const auto& [file, what] : {std::pair{&a.depth, "--aov depth"}, std::pair{&a.primid, "--aov primid"},
+                                       std::pair{&a.normals, "--aov normals"}, std::pair{&a.ao, "--aov ao"}})
+        if (!file->empty()) {
+          checkOutputPath(*file, "--aov");
+          outputs.addOutput(*file, what);
+        }
+    }
+    if (!so.scene.empty() && so.scene.rfind("builtin:", 0) != 0) outputs.addInput(so.scene, "the scene file");
+    if (many) outputs.addInput(cameraFile, "the --cameras file");
+    if (scene)
+      for (const std::string& f : scene->sourceFiles) outputs.addInput(f, "a file the scene reads");
+    outputs.check();
+  };
+  checkOutputs(1, nullptr);
+  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
+  const Camera cam = so.camera(scene);
+  const std::vector<Camera> cams = many ? loadCameraList(cameraFile, cam, rs.width, rs.height) : std::vector<Camera>{cam};
+  checkOutputs(cams.size(), &scene);
+  so.applySceneLook(scene, rs, /*still=*/true);
+  if (!so.cameraGiven() && !many)
+    std::printf("rast: camera (%s) %s\n", so.fileCamera.empty() ? cameraOrigin(scene) : ("file camera " + so.fileCamera).c_str(),
+                cam.flags().c_str());
+  Renderer r(scene, so.memoryBudget());
+  Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
+  if (progress.active()) r.onPass = [&progress](int done, int total) { progress.update(done, total); };
+  // One renderer for every view: its buffers are reused from view to view.
+  for (size_t v = 0; v < cams.size(); ++v) {
+    const FrameStats st = r.render(cams[v], rs);
+    const std::string o = many ? viewPath(out, v, "-o") : out;
+    writeOutputs(r, rs, viewAovs(aov, many, v), o);
+    std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s, aa %s)\n", printable(o).c_str(), rs.width,
+                rs.height, st.trianglesIn, st.rasterTris, toString(st.method), aaName(rs).c_str());
+  }
   return 0;
 }
 
@@ -192,6 +226,10 @@ int run(int argc, char** argv) {
   renderOpts.addTo(*render);
   render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
       ->capture_default_str();
+  std::string cameraFile;
+  render->add_option("--cameras", cameraFile, "many views: a JSON list of cameras ({\"eye\": [x,y,z], \"target\", \"up\", "
+                     "\"fovy\", \"near\", \"far\"}) or a NeRF transforms.json; outputs named with a view field, "
+                     "-o out_%04d.png (docs/distributed.md)");
   render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first)");
 
   SceneOptions benchOpts;
@@ -242,7 +280,7 @@ int run(int argc, char** argv) {
       }
     throw Error("help: no command '" + helpTopic + "' (commands: render, bench, compare, export, ssao-error, info)");
   }
-  if (render->parsed()) return cmdRender(renderOpts, out, aovs);
+  if (render->parsed()) return cmdRender(renderOpts, out, aovs, cameraFile);
   if (bench->parsed()) return runBench(benchOpts, bo);
   if (compare->parsed()) return runCompare(compareOpts);
   if (ssaoErr->parsed()) return runSsaoError(ssaoOpts, seo);
