@@ -171,7 +171,17 @@ void Renderer::prepare(const RenderSettings& rs) {
 }
 
 void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
-  prepare(rs);
+  if (split_) {  // every part prepares, or none renders
+    std::string error;
+    try {
+      prepare(rs);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    split_->agree(error);
+  } else {
+    prepare(rs);
+  }
   FrameUniforms u{};
   const glm::dmat4 vp = cam.viewProjection(rs.width, rs.height);
   for (int k = 0; k < 16; ++k) u.viewProj.m[k] = glm::value_ptr(vp)[k];
@@ -200,10 +210,18 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   in.stats = autoStats_;
   in.statsDue = statsDue;
   in.supersampling = supersampling_;
+  in.keepKeys = split_ != nullptr;
   plan_ = planFrame(rs, in);
   uint64_t visClear = frame_.visClear ? 1 : 0;
 
   if (timer) timer->start();
+  if (split_) {  // launched directly: the split's exchange waits on the host
+    Kokkos::View<const mat4f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(upload_.data(), upload_.size());
+    Kokkos::deep_copy(Kokkos::subview(frame_.uploaded, std::make_pair(size_t(0), upload_.size())), h);
+    launchFrame(plan_, timer);
+    if (plan_.film && !supersampling_ && split_->holdsFrame()) runPost(cam, rs, timer);
+    return;
+  }
   // The camera reaches the kernels through device memory, copied first; the
   // launches after it are the same from frame to frame for the same key.
   graphs_->run(plan_.key, timer, visClear, {upload_.data(), frame_.uploaded.data(), upload_.size() * sizeof(mat4f), u.frame}, [&] {
@@ -258,6 +276,7 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   }
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("raster");
+  if (split_) split_->afterRaster(scene_, frame_, plan, lights_, timer);  // marks "composite"
 
   Kokkos::Profiling::pushRegion("rast::shade");
   switch (plan.shade) {
@@ -267,6 +286,7 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   }
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("shade");
+  if (split_) split_->afterShade(scene_, frame_, plan, lights_, timer);  // marks "merge"
 }
 
 void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
@@ -324,7 +344,20 @@ FrameStats Renderer::render(const Camera& cam, const RenderSettings& rs) {
   FrameStats st;
   for (int attempt = 1;; ++attempt) {
     enqueue(cam, rs);
-    if (lastFrameFit(&st)) {
+    bool fit = false;
+    if (split_) {  // every part grows its buffers and renders again, or none
+      std::string error;
+      try {
+        fit = lastFrameFit(&st);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      split_->agree(error);
+      fit = split_->all(fit);  // one part's buffers overflowed: every part renders again
+    } else {
+      fit = lastFrameFit(&st);
+    }
+    if (fit) {
       st.attempts = attempt;
       return st;
     }
