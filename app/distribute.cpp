@@ -5,6 +5,7 @@
 #include "scenes/procedural.h"
 
 #include <cstdio>
+#include <cstdlib>
 
 namespace rast {
 
@@ -36,6 +37,9 @@ void startDistributed() {
 }
 
 RunScene loadRunScene(const SceneOptions& so, bool share) {
+  // Fault injection for tests/cli/cli_distributed.py: one rank fails to load.
+  if (const char* f = std::getenv("RAST_TEST_FAIL_RANK"))
+    if (Ranks::distributed() && std::atoi(f) == Ranks::rank()) throw Error("injected failure (RAST_TEST_FAIL_RANK)");
   RunScene out;
   Scene full = loadSceneArg(so.scene, so.loadOptions());
   out.camera = so.camera(full);
