@@ -141,8 +141,17 @@ AovRequest viewAovs(const AovRequest& a, bool many, size_t v) {
 
 int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<std::string>& aovItems,
               const std::string& cameraFile, bool distribute) {
-  RenderSettings rs = so.settings();
-  const AovRequest aov = parseAovs(aovItems);
+  // Under --distribute (docs/distributed.md) a list of views is spread over
+  // the ranks, each rendering and writing its own; one view is cut by
+  // geometry (sort-last): each rank draws its share, rank 0 writes the frame.
+  // Every step that may fail is taken together: one rank's failure ends all.
+  if (distribute) startDistributed();
+  const bool many = !cameraFile.empty(), sortLast = distribute && !many;
+  RenderSettings rs;
+  AovRequest aov;
+  together(distribute, [&] {
+  rs = so.settings();
+  aov = parseAovs(aovItems);
   rs.wantDepth = !aov.depth.empty();
   rs.wantPrimId = !aov.primid.empty();
   rs.wantNormals = !aov.normals.empty();
@@ -153,7 +162,10 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
   rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
   if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
-  const bool many = !cameraFile.empty();
+  if (sortLast && rs.shading == ShadingMode::Depth)
+    throw Error("--distribute: --shading depth scales by the depth range of the whole frame, which no rank sees; "
+                "use --aov depth=F instead");
+  });
   // Every output is checked before the (possibly long) render, not after it:
   // writable, and neither an input of the run nor another of its outputs. With
   // many views every name is checked once the views are known.
@@ -177,15 +189,7 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       for (const std::string& f : scene->sourceFiles) outputs.addInput(f, "a file the scene reads");
     outputs.check();
   };
-  // Under --distribute (docs/distributed.md) a list of views is spread over
-  // the ranks, each rendering and writing its own; one view is cut by
-  // geometry (sort-last): each rank draws its share, rank 0 writes the frame.
-  // Every step that may fail is taken together: one rank's failure ends all.
-  if (distribute) startDistributed();
-  const bool sortLast = distribute && !many, writer = !sortLast || Ranks::rank() == 0;
-  if (sortLast && rs.shading == ShadingMode::Depth)
-    throw Error("--distribute: --shading depth scales by the depth range of the whole frame, which no rank sees; "
-                "use --aov depth=F instead");
+  const bool writer = !sortLast || Ranks::rank() == 0;
   together(distribute, [&] { checkOutputs(1, nullptr); });
   RunScene loaded;
   std::vector<Camera> cams;
