@@ -40,6 +40,8 @@ class Ranks {
   // on at most one rank.
   static void orToRoot(uint32_t* data, size_t n);
   static void orToRoot(uint8_t* data, size_t n);
+  // Rank `root`'s bytes to every rank (NCCL's unique id).
+  static void broadcast(void* data, size_t bytes, int root);
   // Every rank's string, on every rank (the build check at start).
   static std::vector<std::string> gather(const std::string& mine);
   // Ends every rank now (the last resort when a rank fails where the others

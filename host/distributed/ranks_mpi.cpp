@@ -82,6 +82,12 @@ void Ranks::orToRoot(uint8_t* data, size_t n) {
                0, MPI_COMM_WORLD);
 }
 
+void Ranks::broadcast(void* data, size_t bytes, int root) {
+  if (!g_started || g_size == 1) return;
+  for (size_t at = 0; at < bytes; at += kChunk)
+    MPI_Bcast(static_cast<char*>(data) + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, root, MPI_COMM_WORLD);
+}
+
 std::vector<std::string> Ranks::gather(const std::string& mine) {
   if (!g_started) return {mine};
   const int len = int(std::min<size_t>(mine.size(), 4096));

@@ -4,6 +4,8 @@
 #include "host/distributed/ranks.h"
 #include "pipeline/rules/raster_rules.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace rast {
@@ -97,7 +99,37 @@ SortLast::SortLast(const std::vector<ShareRange>& shares, int me) {
 
 SortLast::~SortLast() = default;
 
-const char* SortLast::transport() const { return kOnDevice ? "MPI (staged through host memory)" : "MPI"; }
+const char* SortLast::transport() const {
+  return nccl_ ? "NCCL" : kOnDevice ? "MPI (staged through host memory)" : "MPI";
+}
+
+void SortLast::connect() {
+  connected_ = true;
+  const char* env = std::getenv("RAST_COMPOSITE");
+  const std::string mode = env && *env ? env : "auto";
+  if (mode != "auto" && mode != "nccl" && mode != "mpi")
+    throw AgreedFailure("RAST_COMPOSITE=" + printable(mode, 40) + ": expected auto, nccl or mpi");
+  if (mode != "mpi" && tables_.ranks > 1) {
+    std::string why;
+    nccl_ = NcclComposite::load(&why);
+    const std::string all = Ranks::agree(nccl_ ? "" : why);
+    if (!all.empty()) {
+      nccl_.reset();
+      if (mode == "nccl") throw AgreedFailure("RAST_COMPOSITE=nccl: " + all);
+    } else {
+      std::string error;
+      try {
+        nccl_->join();
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      agree(error);
+    }
+  }
+  if (tables_.me == 0)
+    std::printf("rast: compositing %d ranks over %s%s\n", tables_.ranks, transport(),
+                nccl_ ? (" " + nccl_->version()).c_str() : "");
+}
 
 void SortLast::agree(const std::string& error) {
   const std::string all = Ranks::agree(error);
@@ -108,6 +140,7 @@ bool SortLast::all(bool ok) { return Ranks::agree(ok ? "" : "x").empty(); }
 
 void SortLast::afterRaster(const DeviceScene& s, FrameBuffers& f, const FramePlan& plan, const DView<LightGPU>& lights,
                            StageTimer* timer) {
+  if (!connected_) connect();
   const double start = Ranks::seconds();
   const int S = f.vp.samples.count;
   const size_t n = size_t(f.vp.width) * size_t(f.vp.height), ns = n * size_t(S);
@@ -120,7 +153,9 @@ void SortLast::afterRaster(const DeviceScene& s, FrameBuffers& f, const FramePla
   Kokkos::parallel_for("rast::composite::keys", Range(0, int64_t(ns)),
                        KOKKOS_LAMBDA(const int64_t i) { g(i) = globalKey(t, tris, vis(i)); });
   // The exchange: every rank gets the minimum of every rank's keys.
-  if (kOnDevice) {
+  if (nccl_) {
+    nccl_->allMinU64(g.data(), ns);
+  } else if (kOnDevice) {
     hostKeys_.resize(ns);
     Kokkos::View<uint64_t*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(hostKeys_.data(), ns);
     Kokkos::deep_copy(h, Kokkos::subview(g, std::make_pair(size_t(0), ns)));
@@ -174,6 +209,10 @@ void SortLast::merge(DView<T>& v, size_t n) {
   static_assert(sizeof(T) % 4 == 0, "merged buffers are words");
   if (!v.data() || n == 0) return;
   const size_t words = n * sizeof(T) / 4;
+  if (nccl_) {
+    nccl_->sumToRoot(reinterpret_cast<uint32_t*>(v.data()), words);
+    return;
+  }
   if (!kOnDevice) {
     Ranks::orToRoot(reinterpret_cast<uint32_t*>(v.data()), words);
     return;

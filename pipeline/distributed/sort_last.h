@@ -15,6 +15,7 @@
 #pragma once
 
 #include "host/distributed/scene_share.h"
+#include "pipeline/distributed/nccl_composite.h"
 #include "pipeline/frame/renderer.h"
 
 #include <vector>
@@ -59,7 +60,7 @@ class SortLast : public FrameSplit {
   bool holdsFrame() const override { return tables_.me == 0; }
 
   // The last frame's exchange of keys and merge of outputs, wall milliseconds
-  // on this rank (staging included).
+  // on this rank (staging and waiting for the device included).
   double compositeMs() const { return compositeMs_; }
   double mergeMs() const { return mergeMs_; }
   const char* transport() const;
@@ -67,6 +68,12 @@ class SortLast : public FrameSplit {
  private:
   template <class T>
   void merge(DView<T>& v, size_t n);
+  // At the first frame, every rank in step: NCCL when every rank has it
+  // (RAST_COMPOSITE=auto|nccl|mpi chooses), else MPI.
+  void connect();
+
+  bool connected_ = false;
+  std::unique_ptr<NcclComposite> nccl_;
 
   ShareTables tables_;
   DView<uint64_t> global_;  // the composited keys (n * samples)

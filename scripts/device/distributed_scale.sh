@@ -7,10 +7,11 @@
 #   bash scripts/device/distributed_scale.sh [RAST] [OUTDIR]   (default .device/cuda/rast, $OUT or ./device-out)
 #
 # 1. composite: `rast bench --distribute` at 1920x1080 on 1, 2 and 4 ranks of a
-#    small scene: the `composite` and `merge` stages are the exchange per frame;
+#    small scene: the `composite` and `merge` stages are the exchange per frame,
+#    over NCCL (found in the PyTorch environment) and over MPI (RAST_COMPOSITE=mpi);
 # 2. strong scaling: builtin:tiny?n=100000000 (100 M triangles) on 1, 2, 4 ranks;
-# 3. weak scaling: 100 M triangles per rank (n = 100 M x ranks, while the
-#    builtin scene allows it);
+# 3. weak scaling: 100 M triangles per rank (n = 100 M x ranks; builtin:tiny is
+#    generated in part per rank under --distribute, up to 1.8 G triangles);
 # 4. many views: 1,000 views (a turntable) of builtin:default at 640x480 on 1
 #    and 4 ranks, wall time of the whole run.
 # Each bench writes JSON rows (rank 0's stages: vertex, setup, raster,
@@ -25,6 +26,9 @@ mkdir -p "$out"
 [ -x "$rast" ] || { echo "distributed_scale.sh: no rast at $rast" >&2; exit 1; }
 [ -d "$root/.device/lib" ] && export LD_LIBRARY_PATH="$root/.device/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 export OMP_PROC_BIND=false NCCL_NVLS_ENABLE=0 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# NCCL from the image's PyTorch environment (loaded at run time by rast).
+nccl=$(python3 -c 'import nvidia.nccl; print(list(nvidia.nccl.__path__)[0])' 2>/dev/null || true)
+[ -n "$nccl" ] && [ -e "$nccl/lib/libnccl.so.2" ] && export LD_LIBRARY_PATH="$nccl/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 gpus=$(nvidia-smi -L 2>/dev/null | wc -l)
 [ "$gpus" -ge 1 ] || gpus=1
 frames=${RAST_BENCH_FRAMES:-50}
@@ -34,11 +38,14 @@ run() {  # ranks, label, rast args...
   local n=$1 label=$2; shift 2
   [ "$n" -le "$gpus" ] || { echo "skip $label: $n ranks > $gpus GPUs" | tee -a "$summary"; return 0; }
   echo "== $label on $n ranks" | tee -a "$summary"
-  mpirun --oversubscribe -np "$n" "$rast" "$@" 2>&1 | tail -4 | tee -a "$summary"
+  mpirun --oversubscribe -np "$n" -x LD_LIBRARY_PATH -x NCCL_NVLS_ENABLE -x RAST_COMPOSITE "$rast" "$@" 2>&1 | tail -5 | tee -a "$summary"
 }
+export RAST_COMPOSITE=${RAST_COMPOSITE:-auto}
 "$rast" info | head -8 | tee -a "$summary"
 for n in 1 2 4; do
   run "$n" composite bench builtin:default --size 1920x1080 --frames "$frames" --distribute --json "$out/dist_composite_$n.json"
+  RAST_COMPOSITE=mpi run "$n" composite-mpi bench builtin:default --size 1920x1080 --frames "$frames" --distribute \
+    --json "$out/dist_composite_mpi_$n.json"
 done
 for n in 1 2 4; do
   run "$n" strong bench 'builtin:tiny?n=100000000' --size 1920x1080 --frames "$frames" --distribute --json "$out/dist_strong_$n.json"

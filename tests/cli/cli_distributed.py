@@ -5,7 +5,8 @@ ranks of this machine with one thread each:
  - sort-last (`mpirun -np N rast render SCENE --distribute`): for N = 1..4 the
    image, depth and primitive ids are byte-identical to a single-process render,
    over raster methods, MSAA (mixed pixels included), lines, points, wireframe,
-   and post passes (run once, on rank 0's composited film);
+   post passes (run once, on rank 0's composited film), and builtin:tiny
+   generated in part on each rank;
  - many views (`--cameras FILE --distribute`): each view's files equal the
    single-process run's;
  - failure: a rank that fails (a bad file everywhere, an injected failure on
@@ -107,6 +108,8 @@ identical("builtin:lines?n=3000", (3,))
 identical("builtin:points?n=3000", (2,))
 identical("builtin:default", (3,), "--aa", "none", "--wireframe")
 identical("builtin:default", (2,), "--aa", "msaa4", "--bloom", "--tonemap", "aces")
+# Generated per rank: each rank makes only the rows of the grid holding its share.
+identical("builtin:tiny?n=20000", (3,), "--raster", "visbuffer")
 
 # The float film after the post chain (run once, on rank 0).
 r = single("render", "builtin:default", "--size", SIZE, "--aa", "none", "--ssao", "-o", p("film1.pfm"))
@@ -154,6 +157,10 @@ os.makedirs(p("ro"), exist_ok=True)
 res = mpi(2, "render", "builtin:default", "--size", SIZE, "-o", p("nodir/z.png"), "--distribute")
 probs = one_rast_error(res, ["rank 0:"])
 check(not probs, f"an output rank 0 cannot write: every rank ends, one error {probs}")
+res = mpi(2, "render", "builtin:default", "--size", "16x16", "-o", p("w.png"), "--distribute",
+          extra_env={"RAST_COMPOSITE": "nccl"})
+probs = one_rast_error(res, ["RAST_COMPOSITE=nccl", "rank 0:"])
+check(not probs, f"RAST_COMPOSITE=nccl where NCCL cannot run: one error naming the rank and the reason {probs}")
 check(time.time() - t0 < 60, f"failures end within a minute ({time.time() - t0:.1f} s)")
 
 def knows_distribute(exe):
