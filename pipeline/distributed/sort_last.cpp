@@ -103,6 +103,14 @@ const char* SortLast::transport() const {
   return nccl_ ? "NCCL" : kOnDevice ? "MPI (staged through host memory)" : "MPI";
 }
 
+uint64_t SortLast::frameBytes(int width, int height, int samples) const {
+  const uint64_t n = uint64_t(width) * uint64_t(height), ns = n * uint64_t(samples);
+  uint64_t b = ns * 8 + n;
+  if (samples > 1) b += n * 4;
+  if (kOnDevice && !nccl_) b += ns * 8 + n * sizeof(float4);  // hostKeys_, hostWords_ (the largest merged buffer)
+  return b;
+}
+
 void SortLast::connect() {
   connected_ = true;
   const char* env = std::getenv("RAST_COMPOSITE");

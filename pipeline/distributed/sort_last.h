@@ -58,6 +58,10 @@ class SortLast : public FrameSplit {
   void afterShade(const DeviceScene& s, FrameBuffers& f, const FramePlan& plan, const DView<LightGPU>& lights,
                   StageTimer* timer) override;
   bool holdsFrame() const override { return tables_.me == 0; }
+  // The composited keys and the ownership flags, their host staging on GPUs
+  // without NCCL, and MSAA's mixed index (its slots, sized by the frame, are not
+  // known before it).
+  uint64_t frameBytes(int width, int height, int samples) const override;
 
   // The last frame's exchange of keys and merge of outputs, wall milliseconds
   // on this rank (staging and waiting for the device included).

@@ -113,6 +113,7 @@ void Renderer::checkFrameBudget(const RenderSettings& rs) const {
   uint64_t frame = mulSat(n, perPixel);
   // Bloom: two half-resolution float films.
   if (rs.post.bloom) frame = addSat(frame, mulSat(uint64_t(rs.width / 2 + 1) * uint64_t(rs.height / 2 + 1), 2 * sizeof(float4)));
+  if (split_) frame = addSat(frame, split_->frameBytes(rs.width, rs.height, msaa));  // the exchange's buffers
   // Held besides the frame: the scene (here and in the caller's host Scene),
   // the raster triangles and per-vertex buffers; and, when the frame is done,
   // the host copies its outputs are written from (one output at a time, the

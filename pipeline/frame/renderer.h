@@ -54,6 +54,8 @@ class FrameSplit {
                           StageTimer* timer) = 0;
   // Whether this part holds the merged frame (and runs the post chain on it).
   virtual bool holdsFrame() const = 0;
+  // Bytes its own buffers take for a frame of this size (charged with the frame's).
+  virtual uint64_t frameBytes(int width, int height, int samples) const = 0;
 };
 
 class Renderer {
