@@ -6,6 +6,7 @@
 #
 #   bash scripts/device/distributed_scale.sh [RAST] [OUTDIR]   (default .device/cuda/rast, $OUT or ./device-out)
 #
+# 0. identity: image, depth and ids of 2 and 4 ranks (NCCL and MPI) against one process;
 # 1. composite: `rast bench --distribute` at 1920x1080 on 1, 2 and 4 ranks of a
 #    small scene: the `composite` and `merge` stages are the exchange per frame,
 #    over NCCL (found in the PyTorch environment) and over MPI (RAST_COMPOSITE=mpi);
@@ -42,6 +43,28 @@ run() {  # ranks, label, rast args...
 }
 export RAST_COMPOSITE=${RAST_COMPOSITE:-auto}
 "$rast" info | head -8 | tee -a "$summary"
+# 0. identity on the GPUs: sort-last over NCCL and over MPI against one process.
+idir=$out/identity
+mkdir -p "$idir"
+for spec in "builtin:default --aa none" "builtin:default --aa msaa4" "builtin:tiny?n=2000000 --raster visbuffer" "builtin:lines?n=100000"; do
+  set -- $spec
+  scene=$1; shift
+  "$rast" render "$scene" --size 1920x1080 "$@" -o "$idir/one.png" --aov "depth=$idir/one_d.npy,primid=$idir/one_i.npy" > /dev/null 2>&1
+  for n in 2 4; do
+    [ "$n" -le "$gpus" ] || continue
+    for mode in nccl mpi; do
+      rm -f "$idir"/many*
+      RAST_COMPOSITE=$mode mpirun --oversubscribe -np "$n" -x LD_LIBRARY_PATH -x NCCL_NVLS_ENABLE -x RAST_COMPOSITE \
+        "$rast" render "$scene" --size 1920x1080 "$@" -o "$idir/many.png" --aov "depth=$idir/many_d.npy,primid=$idir/many_i.npy" \
+        --distribute > "$idir/log.txt" 2>&1
+      if cmp -s "$idir/one.png" "$idir/many.png" && cmp -s "$idir/one_d.npy" "$idir/many_d.npy" && cmp -s "$idir/one_i.npy" "$idir/many_i.npy"; then
+        echo "identity ok: $spec, $n ranks, $mode" | tee -a "$summary"
+      else
+        echo "identity FAILED: $spec, $n ranks, $mode ($(grep -m1 'rast:' "$idir/log.txt"))" | tee -a "$summary"
+      fi
+    done
+  done
+done
 for n in 1 2 4; do
   run "$n" composite bench builtin:default --size 1920x1080 --frames "$frames" --distribute --json "$out/dist_composite_$n.json"
   RAST_COMPOSITE=mpi run "$n" composite-mpi bench builtin:default --size 1920x1080 --frames "$frames" --distribute \
