@@ -150,21 +150,21 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
   RenderSettings rs;
   AovRequest aov;
   together(distribute, [&] {
-  rs = so.settings();
-  aov = parseAovs(aovItems);
-  rs.wantDepth = !aov.depth.empty();
-  rs.wantPrimId = !aov.primid.empty();
-  rs.wantNormals = !aov.normals.empty();
-  const auto endsWith = [&out](const char* ext) {
-    const std::string e(ext);
-    return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
-  };
-  if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
-  rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
-  if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
-  if (sortLast && rs.shading == ShadingMode::Depth)
-    throw Error("--distribute: --shading depth scales by the depth range of the whole frame, which no rank sees; "
-                "use --aov depth=F instead");
+    rs = so.settings();
+    aov = parseAovs(aovItems);
+    rs.wantDepth = !aov.depth.empty();
+    rs.wantPrimId = !aov.primid.empty();
+    rs.wantNormals = !aov.normals.empty();
+    const auto endsWith = [&out](const char* ext) {
+      const std::string e(ext);
+      return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
+    };
+    if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
+    rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
+    if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
+    if (sortLast && rs.shading == ShadingMode::Depth)
+      throw Error("--distribute: --shading depth scales by the depth range of the whole frame, which no rank sees; "
+                  "use --aov depth=F instead");
   });
   // Every output is checked before the (possibly long) render, not after it:
   // writable, and neither an input of the run nor another of its outputs. With
