@@ -3,6 +3,8 @@
 #include "host/image/safe_output.h"
 
 #include "backends/stage_timer.h"
+#include "app/distribute.h"
+#include "host/distributed/ranks.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
 #include "app/progress.h"
@@ -154,18 +156,26 @@ void BenchOptions::addTo(CLI::App& app) {
   app.add_option("--json", json, "write the rows as a JSON array to this file");
   app.add_option("--csv", csv, "write the rows as CSV to this file");
   app.add_flag("--all-methods", allMethods, "bench every raster method, then auto (overrides --raster)");
+  app.add_flag("--distribute", distribute, "under mpirun/srun: each rank draws its share of the scene, frames composited "
+                                          "(sort-last; stages composite and merge; docs/distributed.md)");
   app.add_option("--methods", methods, "comma-separated raster methods to bench, e.g. visbuffer,binned,auto");
 }
 
 int runBench(const SceneOptions& so, const BenchOptions& bo) {
   RenderSettings rs = so.settings();
-  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
-  const Camera cam = so.camera(scene);
+  if (bo.distribute) startDistributed();
+  RunScene loaded;
+  together(bo.distribute, [&] { loaded = loadRunScene(so, bo.distribute); });
+  const Scene& scene = loaded.scene;
+  const Camera cam = loaded.camera;
   so.applySceneLook(scene, rs, /*still=*/false);
   const std::string sceneName = so.scene.empty() ? "builtin:default" : so.scene;
   std::printf("rast: bench %s at %dx%d on %s, camera %s\n", sceneName.c_str(), rs.width, rs.height, Exec::name(),
               cam.flags().c_str());
-  Renderer r(scene, so.memoryBudget());
+  std::unique_ptr<Renderer> rp;
+  together(bo.distribute, [&] { rp = std::make_unique<Renderer>(scene, so.memoryBudget()); });
+  Renderer& r = *rp;
+  if (loaded.split) r.setSplit(loaded.split.get());
   std::vector<RasterMethod> methods = bo.allMethods ? allRasterMethods() : std::vector<RasterMethod>{rs.raster};
   if (bo.allMethods) methods.push_back(RasterMethod::Auto);
   if (!bo.methods.empty()) {
@@ -177,7 +187,7 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
   std::vector<BenchRow> rows;
   for (RasterMethod m : methods) {
     rs.raster = m;
-    rows.push_back(benchOne(r, cam, rs, bo, sceneName));
+    frames(bo.distribute, [&] { rows.push_back(benchOne(r, cam, rs, bo, sceneName)); });
   }
 
   std::printf("%-16s", "method");
@@ -194,6 +204,7 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
               "as many frames timed whole; minimum needed %.1f MiB; float film and post buffers %.1f MiB)\n",
               bo.frames, bo.warmup, rows[0].stats.minimumBytes / 1048576.0, rows[0].stats.filmBytes / 1048576.0);
 
+  if (bo.distribute && Ranks::rank() != 0) return 0;  // rank 0 writes the rows
   // Written atomically (host/image/safe_output.h), as every output of rast.
   if (!bo.json.empty()) {
     std::ostringstream f;

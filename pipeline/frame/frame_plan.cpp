@@ -112,7 +112,7 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // On the CPU the binned raster can shade each tile as it finishes: the
   // shade stage's time is then part of the raster's.
   const bool linesOrPoints = p.lines.lineItems() + p.lines.pointItems() > 0;
-  if (p.method == RasterMethod::Binned && p.fill && fusedBinnedShadeUsable(f, p.shadeParams, linesOrPoints))
+  if (p.method == RasterMethod::Binned && p.fill && !in.keepKeys && fusedBinnedShadeUsable(f, p.shadeParams, linesOrPoints))
     p.shade = ShadePath::FusedBinned;
   else if (spanShadeUsable(f, p.shadeParams))
     p.shade = ShadePath::Spans;

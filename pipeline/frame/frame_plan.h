@@ -71,6 +71,7 @@ struct PlanInputs {
   AutoStats stats;
   bool statsDue = false;       // auto: this frame runs the statistics pass
   bool supersampling = false;  // a pass of a supersampled frame: film, no post chain
+  bool keepKeys = false;       // a split frame (renderer.h): keys are exchanged before shading, never fused
 };
 
 FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in);
