@@ -159,7 +159,8 @@ void BenchOptions::addTo(CLI::App& app) {
 
 int runBench(const SceneOptions& so, const BenchOptions& bo) {
   RenderSettings rs = so.settings();
-  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
+  Scene scene = loadSceneArg(so.scene, so.loadOptions());
+  so.pose(scene);  // --time/--animation
   const Camera cam = so.camera(scene);
   so.applySceneLook(scene, rs, /*still=*/false);
   const std::string sceneName = so.scene.empty() ? "builtin:default" : so.scene;

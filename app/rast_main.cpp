@@ -19,6 +19,7 @@
 #include "app/cli_options.h"
 #include "app/progress.h"
 #include "app/scene_info.h"
+#include "app/sequence_cmd.h"
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
@@ -85,9 +86,10 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
     }
   if (!so.scene.empty() && so.scene.rfind("builtin:", 0) != 0) outputs.addInput(so.scene, "the scene file");
   outputs.check();
-  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
+  Scene scene = loadSceneArg(so.scene, so.loadOptions());
   for (const std::string& f : scene.sourceFiles) outputs.addInput(f, "a file the scene reads");
   outputs.check();
+  so.pose(scene);  // --time/--animation: framed and drawn as posed
   const Camera cam = so.camera(scene);
   so.applySceneLook(scene, rs, /*still=*/true);
   if (!so.cameraGiven())
@@ -192,6 +194,10 @@ int run(int argc, char** argv) {
   renderOpts.addTo(*render);
   render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
       ->capture_default_str();
+  SequenceOptions seq;
+  render->add_option("--frames", seq.frames, "render the animation from START to END seconds at FPS frames a second, "
+                                              "START:END:FPS, to -o out_%04d.png or a video (.mp4, .webm, .gif through ffmpeg)");
+  render->add_option("--turntable", seq.turntable, "orbit the camera around its target in N frames (with --frames: N frames an orbit)");
   render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first)");
 
   SceneOptions benchOpts;
@@ -241,6 +247,10 @@ int run(int argc, char** argv) {
         return 0;
       }
     throw Error("help: no command '" + helpTopic + "' (commands: render, bench, compare, export, ssao-error, info)");
+  }
+  if (render->parsed() && seq.wanted()) {
+    if (!aovs.empty()) throw Error("--aov is for single images, not with --frames or --turntable");
+    return runSequence(renderOpts, seq, out);
   }
   if (render->parsed()) return cmdRender(renderOpts, out, aovs);
   if (bench->parsed()) return runBench(benchOpts, bo);

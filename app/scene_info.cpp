@@ -10,7 +10,8 @@ bool extensionHonoured(const std::string& name) {
   // The loader reads quantized attributes (host/gltf/accessors.cpp) and bakes
   // the base-colour texture's transform into the UVs (model_walk.cpp); every
   // other extension is ignored (and refused when a file requires it).
-  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform";
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "EXT_mesh_gpu_instancing" ||
+         name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression";
 }
 
 void printSceneInfo(const Scene& s, const std::string& source) {

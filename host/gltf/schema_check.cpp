@@ -305,7 +305,8 @@ class SchemaChecker {
 // (accessors.cpp) and applies the base-colour texture's transform
 // (model_walk.cpp); app/scene_info.cpp reports the same list.
 bool extensionSupported(const std::string& name) {
-  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform";
+  return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "EXT_mesh_gpu_instancing" ||
+         compressionSupported(name);
 }
 
 }  // namespace

@@ -155,4 +155,58 @@ c["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "spot", "spot": {
 c["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
     "KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": 0.4, "scale": [2, 0.5], "texCoord": 0}}
 save("cameras_transform.gltf", c)
+# 11. what moves (#40): a triangle skinned to two joints, a morph target, and
+#     animations of translation (LINEAR), rotation (STEP), scale (CUBICSPLINE)
+#     and weights; then the same file broken in each way the loader refuses:
+#     times not increasing, a NaN key, an output count that disagrees with the
+#     input's, a joint index beyond the skin, a joint hierarchy with a cycle.
+def animated(times=(0.0, 1.0), key=1.0, out_keys=2, joint=1, cycle=False):
+    tri = TRI
+    joints = struct.pack("<12B", 0, 0, 0, 0, joint, 0, 0, 0, 1, 0, 0, 0)
+    weights = struct.pack("<12f", 1, 0, 0, 0, 1, 0, 0, 0, 0.5, 0.5, 0, 0)
+    target = struct.pack("<9f", 0, -1, 0, 0, 0, 0, 0, 0, 0)
+    target2 = struct.pack("<9f", 0, 0, 0, 0.5, 0.5, 0, 0, 0, 0)
+    ibm = struct.pack("<32f", *([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1] * 2))
+    tin = struct.pack(f"<{len(times)}f", *times)
+    tr = struct.pack(f"<{3 * out_keys}f", *([0, 0, 0] + [key, 0, 0] * (out_keys - 1)))
+    rot = struct.pack("<8f", 0, 0, 0, 1, 0, 0, 0.7071, 0.7071)
+    sc = struct.pack("<18f", 0, 0, 0, 1, 1, 1, 0, 0, 0, 0, 0, 0, 2, 2, 2, 0, 0, 0)
+    wt = struct.pack("<4f", 0, 0.5, 1, 0)  # two targets: a single-weight channel trips up viewers that unwrap it
+    parts = [tri, joints, weights, target, ibm, tin, tr, rot, sc, wt, target2]
+    views, off = [], 0
+    for p in parts:
+        views.append({"buffer": 0, "byteOffset": off, "byteLength": len(p)})
+        off += len(p)
+    acc = [pos, {"bufferView": 1, "componentType": 5121, "count": 3, "type": "VEC4"},
+           {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC4"},
+           {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"},
+           {"bufferView": 4, "componentType": 5126, "count": 2, "type": "MAT4"},
+           {"bufferView": 5, "componentType": 5126, "count": len(times), "type": "SCALAR"},
+           {"bufferView": 6, "componentType": 5126, "count": out_keys, "type": "VEC3"},
+           {"bufferView": 7, "componentType": 5126, "count": 2, "type": "VEC4"},
+           {"bufferView": 8, "componentType": 5126, "count": 6, "type": "VEC3"},
+           {"bufferView": 9, "componentType": 5126, "count": 4, "type": "SCALAR"},
+           {"bufferView": 10, "componentType": 5126, "count": 3, "type": "VEC3"}]
+    d = doc([{"attributes": {"POSITION": 0, "JOINTS_0": 1, "WEIGHTS_0": 2}, "targets": [{"POSITION": 3}, {"POSITION": 10}]}],
+            {"byteLength": off, "uri": data_uri(b"".join(parts))}, views, acc)
+    d["nodes"] = [{"mesh": 0, "skin": 0, "weights": [0.5, 0.25]}, {"children": [2]}, {"children": [1] if cycle else []},
+                  {"children": [1]}]
+    d["scenes"] = [{"nodes": [0, 3]}]
+    d["skins"] = [{"joints": [1, 2], "inverseBindMatrices": 4}]
+    d["animations"] = [{"name": "move", "samplers": [
+        {"input": 5, "output": 6}, {"input": 5, "output": 7, "interpolation": "STEP"},
+        {"input": 5, "output": 8, "interpolation": "CUBICSPLINE"}, {"input": 5, "output": 9}],
+        "channels": [{"sampler": 0, "target": {"node": 2, "path": "translation"}},
+                     {"sampler": 1, "target": {"node": 1, "path": "rotation"}},
+                     {"sampler": 2, "target": {"node": 2, "path": "scale"}},
+                     {"sampler": 3, "target": {"node": 0, "path": "weights"}}]}]
+    return d
+
+
+save("anim_skin_morph.gltf", animated())
+save("anim_bad_times.gltf", animated(times=(1.0, 1.0)))
+save("anim_bad_nan.gltf", animated(key=float("nan")))
+save("anim_bad_count.gltf", animated(out_keys=3))
+save("anim_bad_joint.gltf", animated(joint=7))
+save("anim_bad_cycle.gltf", animated(cycle=True))
 print(f"wrote {len(os.listdir(out))} seeds to {out}")
