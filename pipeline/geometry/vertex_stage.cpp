@@ -23,23 +23,31 @@ struct DrawMatrices {
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t d) const { mvp(d) = drawMvp(frame(0).viewProj, draws(d).model); }
 };
 
-// Linear blend skinning of one vertex (glTF 2.0, 3.7.3): the position and
-// normal through each of its joints' matrices, weighted, summed in a fixed
-// order (no contraction), so every backend gives the same bits. Weights of 0
-// are skipped (their joint may be any index).
+// Linear blend skinning of one vertex (glTF 2.0, 3.7.3): its joints'
+// matrices and normal matrices blended by its weights, Σ w · J, in a fixed
+// order without contraction, then the position and normal through the
+// blend, so every backend gives the same bits. Weights of 0 are skipped
+// (their joint may be any index).
 KOKKOS_INLINE_FUNCTION void skinVertex(const DrawGPU& dr, uint32_t local, const uint16_t* sj, const float* sw, const mat4f* joints,
                                        const mat3f* normals, float3& p, float3& n) {
   const uint32_t k0 = dr.skinVertex + local * 4 * dr.skinSets;
-  float3 q{0.0f, 0.0f, 0.0f}, m{0.0f, 0.0f, 0.0f};
+  mat4f m;
+  mat3f nm;
+  for (int c = 0; c < 16; ++c) m.m[c] = 0.0f;
+  for (int c = 0; c < 9; ++c) nm.m[c] = 0.0f;
   for (uint32_t k = 0; k < 4 * dr.skinSets; ++k) {
     const float w = sw[k0 + k];
     if (w == 0.0f) continue;
     const uint32_t j = uint32_t(dr.skinJoint) + sj[k0 + k];
-    q = q + mulPoint(joints[j], p) * w;
-    m = m + mul(normals[j], n) * w;
+    const mat4f& J = joints[j];
+    const mat3f& N = normals[j];
+    for (int c = 0; c < 4; ++c)  // the three rows mulPoint reads, column by column
+      for (int r = 0; r < 3; ++r) m.m[c * 4 + r] = m.m[c * 4 + r] + w * J.m[c * 4 + r];
+    for (int c = 0; c < 9; ++c) nm.m[c] = nm.m[c] + w * N.m[c];
   }
-  p = q;
-  n = m;
+  m.m[15] = 1.0f;
+  p = mulPoint(m, p);
+  n = mul(nm, n);
 }
 
 template <bool kWorld, bool kSkin = false>
@@ -125,6 +133,32 @@ RAST_CPU_CLONES void transformRun(const VertexRun& r, uint32_t src0, uint32_t v0
   }
 }
 
+// A skinned draw's run of vertices [v, end) on a host backend: the arithmetic
+// of TransformVertices::one() with skins (the same bits), cloned for AVX-512
+// and AVX2 as transformRun is, the draw's fields read once.
+struct SkinRun {
+  VertexRun base;
+  DrawGPU draw;
+  const uint16_t* joints;
+  const float* weights;
+  const mat4f* palette;
+  const mat3f* paletteNormals;
+};
+RAST_CPU_CLONES void skinnedRun(const SkinRun& s, uint32_t src0, uint32_t v0, uint32_t end) {
+  const VertexRun& r = s.base;
+  for (uint32_t v = v0, src = src0; v < end; ++v, ++src) {
+    float3 p = r.positions[src], n = r.normals[src];
+    skinVertex(s.draw, v - s.draw.dstVertex, s.joints, s.weights, s.palette, s.paletteNormals, p, n);
+    const float4 c = mul(r.mvp, p);
+    r.clip[v] = c;
+    r.snap[v] = snapOrFlag(c, r.vp, r.gx, r.gy);
+    if (r.worldPos) {
+      r.worldPos[v] = mulPoint(r.model, p);
+      r.worldNormal[v] = normalize(mul(r.normalMatrix, n));
+    }
+  }
+}
+
 namespace {
 
 // The host backends' vertex stage: a work item takes kHostVertexChunk
@@ -146,15 +180,14 @@ struct TransformVerticesHost {
       const uint32_t end = next < v1 ? next : v1;
       if (v >= end) continue;  // a draw without vertices
       const DrawGPU& dr = t.draws(d);
-      if (kSkin && dr.skinJoint >= 0) {  // skinned: the device's per-vertex arithmetic
-        for (uint32_t u = v; u < end; ++u) t.one(u, d);
-        v = end;
-        continue;
-      }
       const VertexRun r{t.positions.data(), t.normals.data(), t.clip.data(), t.snap.data(),
                         kWorld ? t.worldPos.data() : nullptr, kWorld ? t.worldNormal.data() : nullptr,
                         t.mvp(d), dr.modelF, dr.normalMatrix, t.vp, t.gx, t.gy};
-      transformRun(r, dr.srcVertex + (v - dr.dstVertex), v, end);
+      if (kSkin && dr.skinJoint >= 0)
+        skinnedRun(SkinRun{r, dr, t.skinJoints.data(), t.skinWeights.data(), t.joints.data(), t.jointNormals.data()},
+                   dr.srcVertex + (v - dr.dstVertex), v, end);
+      else
+        transformRun(r, dr.srcVertex + (v - dr.dstVertex), v, end);
       v = end;
     }
   }
