@@ -201,10 +201,15 @@ void decodeDraco(tinygltf::Model& m, LoadContext& ctx) {
 
 // ---------------------------------------------------------------- KHR_texture_basisu
 
-void checkBasisu(const tinygltf::Model& m) {
-  for (size_t i = 0; i < m.textures.size(); ++i)
-    if (m.textures[i].extensions.count("KHR_texture_basisu") && m.textures[i].source < 0)
+void checkBasisu(const tinygltf::Model& m, const LoadContext& ctx) {
+  for (size_t i = 0; i < m.textures.size(); ++i) {
+    const int src = m.textures[i].source;
+    if (m.textures[i].extensions.count("KHR_texture_basisu") && src < 0)
       throw Error("textures[" + std::to_string(i) + "] is KHR_texture_basisu (KTX2) only, which rast cannot decode (no fallback image)");
+    if (std::find(ctx.ktx2Images.begin(), ctx.ktx2Images.end(), src) != ctx.ktx2Images.end())
+      throw Error("image " + std::to_string(src) + ": is KTX2 (KHR_texture_basisu, which rast does not support), not PNG or JPEG, "
+                  "the image formats glTF allows");
+  }
 }
 
 }  // namespace
@@ -271,7 +276,7 @@ bool stubForTinygltf(nlohmann::json& doc, bool binary, const std::vector<unsigne
 void decodeCompressed(tinygltf::Model& m, LoadContext& ctx) {
   decodeMeshopt(m, ctx);
   decodeDraco(m, ctx);
-  checkBasisu(m);
+  checkBasisu(m, ctx);
 }
 
 bool compressionSupported(const std::string& name) {

@@ -42,6 +42,8 @@ struct LoadContext {
   std::string fatal;
   // The resolved path of every external file read (Scene::sourceFiles).
   std::vector<std::string> filesRead;
+  // Images left undecoded because they are KTX2 (image_decode.cpp, compression.cpp).
+  std::vector<int> ktx2Images;
 };
 
 // Makes a message printable on one line: control characters become spaces.

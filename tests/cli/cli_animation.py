@@ -65,6 +65,10 @@ check(r1.returncode == 0 and r2.returncode == 0 and read(w("byname.png")) == rea
 r = run("render", scene, "--time", "1", *size, "-o", w("framed.png"))
 check(r.returncode == 0 and "rast: camera (auto)" in r.stdout, "auto-framing prints the posed scene's camera")
 
+r = run("info", scene)
+check(r.returncode == 0 and "animation: 1 animations, 1 skins; 1 skinned and 1 morphed draws" in r.stdout
+      and "0 'move': 4 channels, 0 to 1 s" in r.stdout, f"rast info lists the animation ({r.stdout.strip()[-160:]})")
+
 # A sequence: 5 frames at 4 fps over [0, 1]; frame 2 is t = 0.5.
 r = run("render", scene, "--frames", "0:1:4", *size, *cam, "-o", w("seq_%03d.png"))
 check(r.returncode == 0 and all(os.path.exists(w(f"seq_{i:03d}.png")) for i in range(5)) and not os.path.exists(w("seq_005.png")),

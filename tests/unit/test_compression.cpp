@@ -6,6 +6,7 @@
 // corrupt streams and over-budget decodes end in one line.
 #include <catch2/catch.hpp>
 
+#include "host/image/image_io.h"
 #include "tests/unit/loader_test_helpers.h"
 
 #include <draco/compression/decode.h>
@@ -74,7 +75,7 @@ Scene plain(const Mesh& m, const TempDir& d) {
 
 // The grid with its positions and indices meshopt-encoded in buffer 0, read
 // through views of a fallback buffer 1 that holds no data.
-std::string meshoptFile(const Mesh& m, const TempDir& d, bool corrupt) {
+std::string meshoptFile(const Mesh& m, const TempDir& d, bool corrupt, bool glb = false) {
   const size_t nv = m.pos.size() / 3;
   std::vector<unsigned char> vb(meshopt_encodeVertexBufferBound(nv, 12));
   vb.resize(meshopt_encodeVertexBuffer(vb.data(), vb.size(), m.pos.data(), nv, 12));
@@ -99,11 +100,22 @@ std::string meshoptFile(const Mesh& m, const TempDir& d, bool corrupt) {
   doc.j["extensionsUsed"] = {"EXT_meshopt_compression"};
   doc.j["extensionsRequired"] = {"EXT_meshopt_compression"};
   json out = doc.j;
-  out["buffers"] = json::array({{{"uri", "mo.bin"}, {"byteLength", doc.bin.size()}},
-                                {{"byteLength", nv * 12 + m.idx.size() * 4},
-                                 {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
-  d.write("mo.bin", doc.bin);
-  return d.write("mo.gltf", out.dump());
+  json own = {{"byteLength", doc.bin.size()}};
+  if (!glb) own["uri"] = "mo.bin";
+  out["buffers"] = json::array({own, {{"byteLength", nv * 12 + m.idx.size() * 4},
+                                      {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
+  if (!glb) {
+    d.write("mo.bin", doc.bin);
+    return d.write("mo.gltf", out.dump());
+  }
+  // A GLB: the compressed bytes in its BIN chunk (buffer 0), the fallback buffer without data.
+  std::string js = out.dump(), bin = doc.bin;
+  while (js.size() % 4) js += ' ';
+  while (bin.size() % 4) bin += '\0';
+  auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const std::string file = "glTF" + u32(2) + u32(uint32_t(12 + 8 + js.size() + 8 + bin.size())) + u32(uint32_t(js.size())) +
+                           "JSON" + js + u32(uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
+  return d.write("mo.glb", file);
 }
 
 std::string dracoFile(const Mesh& m, const TempDir& d, bool corrupt) {
@@ -148,6 +160,7 @@ TEST_CASE("compression: meshopt decodes to exactly the source's triangles", "[co
   const Scene s = loadGltf(meshoptFile(m, d, false));
   CHECK(s.triangleCount() == ref.triangleCount());
   CHECK(triangles(s) == triangles(ref));
+  CHECK(triangles(loadGltf(meshoptFile(m, d, false, /*glb=*/true))) == triangles(ref));
   CHECK_THAT(loadError(meshoptFile(m, d, true)), Contains("EXT_meshopt_compression: the compressed stream is corrupt"));
 }
 
@@ -206,4 +219,21 @@ TEST_CASE("compression: Debian's 2CylinderEngine with Draco matches the uncompre
   const double size = glm::length(bhi - blo);
   CHECK(glm::length(alo - blo) < 1e-3 * size);  // within the 14-bit position quantization
   CHECK(glm::length(ahi - bhi) < 1e-3 * size);
+}
+
+TEST_CASE("compression: KHR_texture_basisu uses the fallback image, or is refused by name", "[compression]") {
+  TempDir d;
+  writePng(d.file("fallback.png"), 2, 2, std::vector<uint32_t>(4, 0xff00ff00u));
+  d.write("texture.ktx2", std::string("\xABKTX 20\xBB\r\n\x1A\n", 12) + std::string(64, '\0'));  // a KTX2 header
+  Doc doc = texturedTriangle("fallback.png");
+  doc.j["images"].push_back({{"uri", "texture.ktx2"}});
+  doc.j["textures"][0]["extensions"] = {{"KHR_texture_basisu", {{"source", 1}}}};
+  doc.j["extensionsUsed"] = {"KHR_texture_basisu"};
+  const Scene s = loadDoc(doc, d, "basisu");  // the KTX2 image is not decoded: the PNG is used
+  REQUIRE(s.textures.size() == 1);
+  CHECK(s.textures[0].rgba[0] == 0xff00ff00u);
+  doc.j["textures"][0].erase("source");
+  CHECK_THAT(docError(doc, d, "basisu_only"), Contains("KHR_texture_basisu"));
+  doc.j["extensionsRequired"] = {"KHR_texture_basisu"};
+  CHECK_THAT(docError(doc, d, "basisu_required"), Contains("requires extension KHR_texture_basisu"));
 }
