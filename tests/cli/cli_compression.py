@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Compressed glTF from the command line (#40, docs/compression.md): Debian's 2CylinderEngine
+"""Compressed glTF from the command line (#40, docs/compression.md): the fuzz corpus' meshopt and
+Draco seeds render, their broken twins end in one line; Debian's 2CylinderEngine
 with Draco covers the same pixels as the uncompressed .glb from the same camera (coverage IoU of
 the primitive-id images at least 0.995), `rast info` marks the compression extensions honoured,
 and a Draco file whose stream is cut ends in one line. Skips (77) without assimp-testmodels.
@@ -21,9 +22,6 @@ env.setdefault("OMP_PROC_BIND", "false")
 failed = 0
 draco = os.path.join(args.assimp, "draco", "2CylinderEngine.gltf")
 glb = os.path.join(args.assimp, "2CylinderEngine-glTF-Binary", "2CylinderEngine.glb")
-if not (os.path.exists(draco) and os.path.exists(glb)):
-    print(f"SKIPPED: no {draco} or {glb} (apt-get install assimp-testmodels)")
-    sys.exit(77)
 
 
 def check(ok, what):
@@ -34,6 +32,25 @@ def check(ok, what):
 
 def run(*a):
     return subprocess.run([args.rast] + list(a), capture_output=True, text=True, env=env, timeout=600)
+
+
+# The fuzz corpus' compressed seeds (tests/fuzz/make_seeds.py, section 12).
+corpus = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz", "corpus")
+for seed, expect in (("meshopt_grid", None), ("draco_grid", None),
+                     ("meshopt_bad_stream", "EXT_meshopt_compression: the compressed stream is corrupt"),
+                     ("meshopt_bad_count", "over the memory budget"),
+                     ("draco_bad_cut", "KHR_draco_mesh_compression: the compressed stream is corrupt")):
+    r = run("render", os.path.join(corpus, seed + ".gltf"), "--size", "64x48", "--max-memory", "256M",
+            "-o", os.path.join(args.workdir, seed + ".png"))
+    err = r.stderr.strip()
+    if expect is None:
+        check(r.returncode == 0 and "8 triangles" in r.stdout, f"{seed}: renders its 8 triangles ({err})")
+    else:
+        check(r.returncode == 1 and expect in err and len(err.splitlines()) == 1, f"{seed}: one line ({err[:160]})")
+
+if not (os.path.exists(draco) and os.path.exists(glb)):
+    print(f"SKIPPED: no {draco} or {glb} (apt-get install assimp-testmodels)")
+    sys.exit(1 if failed else 77)
 
 
 def coverage(path):

@@ -209,4 +209,54 @@ save("anim_bad_nan.gltf", animated(key=float("nan")))
 save("anim_bad_count.gltf", animated(out_keys=3))
 save("anim_bad_joint.gltf", animated(joint=7))
 save("anim_bad_cycle.gltf", animated(cycle=True))
+# 12. compressed geometry (#40, docs/compression.md): a 3x3 grid of 8 triangles
+#     as EXT_meshopt_compression streams (with a fallback buffer holding no data)
+#     and as a KHR_draco_mesh_compression stream, then broken: meshopt bytes
+#     flipped, a Draco stream cut short, a meshopt view claiming 2^28 vertices
+#     (over a small budget, decoded size charged first). The streams were made by
+#     Debian's libmeshoptimizer 0.18 and libdraco 1.5.5 encoders (as
+#     tests/unit/test_compression.cpp makes its own).
+MO_VERTS = "a00000010f3cc000ffffffffff0133cf00007e7d7e7d7e000001000c0000ff01030000007e000001003fc000ffffffff0100cf00007c7b7c0000000000000000000000000000000000000000000000000000000000000000"
+MO_INDICES = "e0fe0ffe136f0f5f020f0801f304040104007687566778a9866589689801690000"
+DRACO = ("445241434f02020101000000090800080200037fda07ff011101ff0000010009030000000000003f0000003f0000003e0000000000"
+         "00003f000000000000000000000000000000000000003f00000000000000000000803f0000003f0000803e0000803f000000000000"
+         "00000000803f0000803f0000003e0000003f0000803f0000803e000000000000803f00000000")
+
+
+def meshopt_doc(vb, ib, count=9):
+    vb, ib = bytes.fromhex(vb), bytes.fromhex(ib)
+    pad = b"\0" * (-len(vb) % 4)
+    blob = vb + pad + ib
+
+    def ext(off, n, stride, cnt, mode):
+        return {"EXT_meshopt_compression": {"buffer": 0, "byteOffset": off, "byteLength": n, "byteStride": stride,
+                                            "count": cnt, "mode": mode}}
+    return {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+            "extensionsUsed": ["EXT_meshopt_compression"], "extensionsRequired": ["EXT_meshopt_compression"],
+            "buffers": [{"byteLength": len(blob), "uri": data_uri(blob)},
+                        {"byteLength": count * 12 + 96, "extensions": {"EXT_meshopt_compression": {"fallback": True}}}],
+            "bufferViews": [{"buffer": 1, "byteLength": count * 12, "byteStride": 12, "extensions": ext(0, len(vb), 12, count, "ATTRIBUTES")},
+                            {"buffer": 1, "byteOffset": count * 12, "byteLength": 96,
+                             "extensions": ext(len(vb) + len(pad), len(ib), 4, 24, "TRIANGLES")}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": count, "type": "VEC3"},
+                          {"bufferView": 1, "componentType": 5125, "count": 24, "type": "SCALAR"}]}
+
+
+def draco_doc(stream):
+    b = bytes.fromhex(stream)
+    return {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "extensions": {
+                "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
+            "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"],
+            "buffers": [{"byteLength": len(b), "uri": data_uri(b)}], "bufferViews": [{"buffer": 0, "byteLength": len(b)}],
+            "accessors": [{"componentType": 5126, "count": 9, "type": "VEC3"},
+                          {"componentType": 5125, "count": 24, "type": "SCALAR"}]}
+
+
+save("meshopt_grid.gltf", meshopt_doc(MO_VERTS, MO_INDICES))
+save("meshopt_bad_stream.gltf", meshopt_doc(MO_VERTS[:8] + "ff" * 40 + MO_VERTS[88:], MO_INDICES))
+save("meshopt_bad_count.gltf", meshopt_doc(MO_VERTS, MO_INDICES, count=1 << 28))
+save("draco_grid.gltf", draco_doc(DRACO))
+save("draco_bad_cut.gltf", draco_doc(DRACO[:len(DRACO) // 2]))
 print(f"wrote {len(os.listdir(out))} seeds to {out}")
