@@ -69,6 +69,10 @@ r = run("info", scene)
 check(r.returncode == 0 and "animation: 1 animations, 1 skins; 1 skinned and 1 morphed draws" in r.stdout
       and "0 'move': 4 channels, 0 to 1 s" in r.stdout, f"rast info lists the animation ({r.stdout.strip()[-160:]})")
 
+r = run("bench", scene, "--frames", "3", "--warmup", "1", *size)
+check(r.returncode == 0 and "animation: " in r.stdout and "ms to send the pose" in r.stdout,
+      f"rast bench times posing an animated scene ({r.stdout.strip()[-120:]})")
+
 # A sequence: 5 frames at 4 fps over [0, 1]; frame 2 is t = 0.5.
 r = run("render", scene, "--frames", "0:1:4", *size, *cam, "-o", w("seq_%03d.png"))
 check(r.returncode == 0 and all(os.path.exists(w(f"seq_{i:03d}.png")) for i in range(5)) and not os.path.exists(w("seq_005.png")),
