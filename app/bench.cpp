@@ -5,6 +5,7 @@
 #include "backends/stage_timer.h"
 #include "app/distribute.h"
 #include "host/distributed/ranks.h"
+#include "host/scene/animation.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
 #include "app/progress.h"
@@ -166,7 +167,7 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
   if (bo.distribute) startDistributed();
   RunScene loaded;
   together(bo.distribute, [&] { loaded = loadRunScene(so, bo.distribute); });
-  const Scene& scene = loaded.scene;
+  Scene& scene = loaded.scene;
   const Camera cam = loaded.camera;
   so.applySceneLook(scene, rs, /*still=*/false);
   const std::string sceneName = so.scene.empty() ? "builtin:default" : so.scene;
@@ -205,6 +206,30 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
               bo.frames, bo.warmup, rows[0].stats.minimumBytes / 1048576.0, rows[0].stats.filmBytes / 1048576.0);
 
   if (bo.distribute && Ranks::rank() != 0) return 0;  // rank 0 writes the rows
+  // An animated scene: what a new pose costs before its frame (docs/animation.md):
+  // evaluating the animations and morphing on the host, then sending the pose
+  // (draw matrices, joint palette, morphed vertices) into the renderer's buffers.
+  if (scene.rig && !scene.rig->animations.empty()) {
+    PoseRequest pr = so.poseRequest(scene).value_or(PoseRequest{});
+    double a = 0.0, b = 0.0;
+    for (const Animation& an : scene.rig->animations)
+      if (pr.animation < 0 || &an == &scene.rig->animations[size_t(pr.animation)]) b = std::max(b, an.end);
+    std::vector<double> evalMs, sendMs;
+    for (int i = 0; i < bo.frames; ++i) {
+      pr.time = a + (b - a) * i / std::max(1, bo.frames - 1);
+      Kokkos::Timer t;
+      poseScene(scene, pr, /*skinOnHost=*/false);
+      evalMs.push_back(t.seconds() * 1e3);
+      Kokkos::Timer u;
+      r.updatePose(scene);
+      Exec().fence();
+      sendMs.push_back(u.seconds() * 1e3);
+    }
+    std::printf("animation: %.4f ms to pose (evaluate %zu animations, morph), %.4f ms to send the pose (median of %d poses "
+                "over 0..%.3g s; skinning is in the vertex stage)\n",
+                median(evalMs), scene.rig->animations.size(), median(sendMs), bo.frames, b);
+  }
+
   // Written atomically (host/image/safe_output.h), as every output of rast.
   if (!bo.json.empty()) {
     std::ostringstream f;

@@ -69,6 +69,8 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--point-size", pointSize, "point size in pixels, 1..64")->capture_default_str();
   app.add_flag("--allow-external-files", allowExternalFiles,
                "let a glTF file read buffers and images outside its own folder (absolute paths, ..)");
+  app.add_option("--time", time, "pose the scene's animations at this time in seconds (docs/animation.md)");
+  app.add_option("--animation", animation, "which animation plays: its index N (from 0) or its name (default: all)");
   app.add_option("--max-memory", maxMemory,
                  "memory that loading and rendering may use, e.g. 512M or 4G (default: half of physical memory, " +
                      formatBytes(defaultMemoryBudget()) + " here)");
@@ -83,6 +85,23 @@ LoadOptions SceneOptions::loadOptions() const {
   o.allowExternalFiles = allowExternalFiles;
   o.maxMemory = memoryBudget();
   return o;
+}
+
+std::optional<PoseRequest> SceneOptions::poseRequest(const Scene& scene) const {
+  if (!time && animation.empty()) return std::nullopt;
+  if (time && !std::isfinite(*time)) throw Error("--time must be a finite number of seconds");
+  if (!scene.rig || scene.rig->animations.empty()) {
+    if (!animation.empty()) throw Error("--animation: the scene has no animations");
+    return std::nullopt;  // --time on a scene that does not move: its one pose
+  }
+  PoseRequest r;
+  r.time = time.value_or(0.0);
+  if (!animation.empty()) r.animation = findAnimation(*scene.rig, animation);
+  return r;
+}
+
+void SceneOptions::pose(Scene& scene) const {
+  if (const auto r = poseRequest(scene)) poseScene(scene, *r);
 }
 
 RenderSettings SceneOptions::settings() const {

@@ -62,6 +62,7 @@ RunScene loadRunScene(const SceneOptions& so, bool share) {
     return out;
   }
   Scene full = loadSceneArg(so.scene, so.loadOptions());
+  so.pose(full);  // --time/--animation: framed and drawn as posed
   out.camera = so.camera(full);
   out.trianglesAll = full.triangleCount();
   if (!share) {

@@ -23,6 +23,7 @@
 #include "app/distribute.h"
 #include "host/distributed/ranks.h"
 #include "host/scene/camera_list.h"
+#include "app/sequence_cmd.h"
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
@@ -268,6 +269,10 @@ int run(int argc, char** argv) {
   bool distribute = false;
   render->add_flag("--distribute", distribute, "under mpirun/srun: one view cut by geometry over the ranks (sort-last), "
                    "or the --cameras views spread over them (docs/distributed.md)");
+  SequenceOptions seq;
+  render->add_option("--frames", seq.frames, "render the animation from START to END seconds at FPS frames a second, "
+                                              "START:END:FPS, to -o out_%04d.png or a video (.mp4, .webm, .gif through ffmpeg)");
+  render->add_option("--turntable", seq.turntable, "orbit the camera around its target in N frames (with --frames: N frames an orbit)");
   render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first)");
 
   SceneOptions benchOpts;
@@ -317,6 +322,11 @@ int run(int argc, char** argv) {
         return 0;
       }
     throw Error("help: no command '" + helpTopic + "' (commands: render, bench, compare, export, ssao-error, info)");
+  }
+  if (render->parsed() && seq.wanted()) {
+    if (!aovs.empty()) throw Error("--aov is for single images, not with --frames or --turntable");
+    if (!cameraFile.empty() || distribute) throw Error("--frames/--turntable cannot be combined with --cameras or --distribute");
+    return runSequence(renderOpts, seq, out);
   }
   if (render->parsed()) return cmdRender(renderOpts, out, aovs, cameraFile, distribute);
   if (bench->parsed()) return runBench(benchOpts, bo);

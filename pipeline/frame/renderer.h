@@ -65,6 +65,10 @@ class Renderer {
   explicit Renderer(const Scene& scene, uint64_t memoryBudget = 0);
   ~Renderer();
 
+  // Takes a new pose of the scene it was made with (animation frames):
+  // matrices and moved vertices into the buffers it holds.
+  void updatePose(const Scene& scene) { scene_.updatePose(scene); }
+
   // Renders one frame and waits for it. If the frame needed larger buffers
   // than it had, they grow and the frame is rendered again (never capped).
   FrameStats render(const Camera& cam, const RenderSettings& rs);
