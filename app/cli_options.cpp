@@ -48,6 +48,11 @@ void SceneOptions::addTo(CLI::App& app) {
                  "(--filter auto, the glTF shading; 16 as the Khronos Sample Renderer asks WebGL for)")
       ->capture_default_str()
       ->check(CLI::Range(1, 16));
+  app.add_option("--env", environment,
+                 "image-based light of the glTF shading: a Radiance .hdr panorama, or none (default: the built-in "
+                 "neutral environment)");
+  app.add_option("--env-intensity", envIntensity, "environment intensity")->capture_default_str();
+  app.add_option("--env-rotation", envRotation, "environment rotation about +Y, degrees")->capture_default_str();
   app.add_flag("--reference", reference, "ground truth: 16x16 stratified samples per pixel (slow on purpose)");
   app.add_option("--reference-grid", referenceGrid, "reference samples per pixel side")->capture_default_str();
   app.add_option("--interp", interp, "attribute interpolation: perspective|affine (affine only to compare)")
@@ -118,6 +123,11 @@ RenderSettings SceneOptions::settings() const {
   rs.shading = shading.empty() ? ShadingMode::Lambert : parseShading(shading);
   rs.filter = parseFilter(filter);
   rs.anisotropy = anisotropy;
+  if (!(std::isfinite(envIntensity) && envIntensity >= 0.0)) throw Error("--env-intensity must be a finite number >= 0");
+  if (!std::isfinite(envRotation)) throw Error("--env-rotation must be finite");
+  rs.environment = environment;
+  rs.envIntensity = float(envIntensity);
+  rs.envRotation = float(envRotation);
   rs.raster = parseRaster(raster);
   parseAA(aa.empty() ? "none" : aa, rs);
   rs.reference = reference;

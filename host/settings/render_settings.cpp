@@ -116,7 +116,7 @@ void put(std::string& s, T v) {
 // frames with different values of it would share a recording. The sizes below
 // (LP64) make the compiler point here when either struct changes.
 static_assert(sizeof(void*) != 8 || sizeof(PostSettings) == 40, "PostSettings changed: update settingsKey()");
-static_assert(sizeof(void*) != 8 || sizeof(RenderSettings) == 168, "RenderSettings changed: update settingsKey()");
+static_assert(sizeof(void*) != 8 || sizeof(RenderSettings) == 208, "RenderSettings changed: update settingsKey()");
 
 std::string settingsKey(const RenderSettings& rs) {
   std::string s;
@@ -130,6 +130,9 @@ std::string settingsKey(const RenderSettings& rs) {
   for (double v : {rs.ambient, rs.specular, rs.shininess, rs.background.x, rs.background.y, rs.background.z,
                    rs.background.w, rs.lineWidth, rs.pointSize})
     put(s, v);
+  put(s, (long long)rs.environment.size());
+  s += rs.environment;
+  for (double v : {rs.envIntensity, rs.envRotation}) put(s, v);
   put(s, (long long)rs.lights.size());
   for (const DirectionalLight& l : rs.lights)
     for (double v : {l.direction.x, l.direction.y, l.direction.z, l.intensity}) put(s, v);

@@ -49,6 +49,11 @@ struct RenderSettings {
   // Anisotropic filtering's most taps (1..16) where a glTF sampler filters
   // linearly between mipmap levels, under --filter auto and the glTF shading.
   int anisotropy = 16;
+  // Image-based light of the glTF shading (pipeline/shade/environment.h):
+  // "" the built-in neutral environment, "none" none, else a Radiance .hdr
+  // file; its intensity and rotation about +Y (degrees).
+  std::string environment;
+  float envIntensity = 1.0f, envRotation = 90.0f;
   RasterMethod raster = RasterMethod::Auto;
   // Empty: one headlight at the eye (per fragment, towards the eye), as glref shades.
   std::vector<DirectionalLight> lights;

@@ -154,7 +154,31 @@ void Renderer::prepare(const RenderSettings& rs) {
   // Mipmaps are built the first time a frame needs them.
   const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel ||
                         (rs.filter == TexFilter::Auto && rs.shading == ShadingMode::Pbr);
-  if (wantMips && scene_.hasTextures && !scene_.hasMipmaps) scene_.uploadTextures(hostTextures_, true);
+  if (wantMips && scene_.hasTextures && !scene_.hasMipmaps) {
+    // The pyramids (a third more than the textures) are built on the host and
+    // uploaded: a host and a device copy of every level while they are made.
+    uint64_t texels = 0;
+    for (const Texture& t : hostTextures_) texels = addSat(texels, uint64_t(t.rgba.size()) * 4);
+    MemoryLedger ledger(budget_);
+    ledger.charge("the scene, its host copy and the frame buffers", addSat(deviceBytes(), hostSceneBytes_));
+    ledger.check("the textures' mipmap levels (filtering asks for them)", mulSat(texels / 3, 8));
+    scene_.uploadTextures(hostTextures_, true);
+  }
+  if (rs.shading == ShadingMode::Pbr && rs.environment != "none") {
+    EnvOptions eo;
+    eo.intensity = rs.envIntensity;
+    eo.rotationDegrees = rs.envRotation;
+    if (!envIsLoaded_ || rs.environment != envLoaded_) {
+      env_ = EnvironmentGPU();  // the old one's memory first
+      MemoryLedger ledger(budget_);
+      ledger.charge("the scene and frame buffers", deviceBytes());
+      env_ = loadEnvironment(rs.environment, eo, ledger);
+      envLoaded_ = rs.environment;
+      envIsLoaded_ = true;
+    } else {
+      setEnvironmentLook(env_, eo);  // intensity and rotation need no filtering
+    }
+  }
   if (rs.lights != uploadedLights_ || !lights_.data()) {
     std::vector<LightGPU> l;
     for (const DirectionalLight& d : rs.lights) l.push_back({normalize(d.direction), d.intensity});
@@ -214,6 +238,8 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   in.supersampling = supersampling_;
   in.keepKeys = split_ != nullptr;
   plan_ = planFrame(rs, in);
+  plan_.shadeParams.useEnv = rs.shading == ShadingMode::Pbr && rs.environment != "none" && env_.valid() ? 1 : 0;
+  if (plan_.shadeParams.useEnv) plan_.shadeParams.env = env_;
   uint64_t visClear = frame_.visClear ? 1 : 0;
 
   if (timer) timer->start();

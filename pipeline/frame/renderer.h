@@ -111,7 +111,7 @@ class Renderer {
   // The method a frame with these settings uses (auto: chosen from the
   // previous frame's statistics; see chooseAuto in renderer.cpp).
   RasterMethod resolveMethod(const RenderSettings& rs) const;
-  size_t deviceBytes() const { return scene_.bytes() + frame_.bytes(); }
+  size_t deviceBytes() const { return scene_.bytes() + frame_.bytes() + env_.bytes(); }
 
   // Splits every later frame by geometry (null: whole frames, as by default).
   // The split outlives the renderer's frames.
@@ -138,6 +138,10 @@ class Renderer {
   std::vector<Texture> hostTextures_;  // kept to build mipmaps when first needed
   FrameBuffers frame_;
   DView<LightGPU> lights_;
+  // The glTF shading's environment, filtered once per file (RenderSettings::environment).
+  EnvironmentGPU env_;
+  std::string envLoaded_;
+  bool envIsLoaded_ = false;
   std::vector<DirectionalLight> uploadedLights_;
   FramePlan plan_;  // the last frame's decisions
   uint32_t autoFrames_ = 0;

@@ -168,7 +168,12 @@ EnvOptions neutralOptions() {
   o.faceSize = 64;
   o.lowestMipLevel = 2;
   o.diffuseSize = 16;
-  o.lutSize = 128;
+  // It is the glTF shading's default light, filtered at every start of
+  // `rast render` on a CPU too: a quarter of the GGX samples (the panorama is
+  // smooth) and a 64x64 table; the irradiance keeps its 2048 samples a texel
+  // (512 put it up to 9% off the exact integral; 2048 within 5%).
+  o.ggxSamples = 256;
+  o.lutSize = 64;
   return o;
 }
 

@@ -33,8 +33,9 @@ struct EnvOptions {
 // Settings for the built-in neutral environment (hdr_image.h), which has no
 // detail finer than its soft key light: a 64-texel cube (5 specular levels,
 // 64 down to 4, so lod = roughness * 4 as with the reference's settings), a
-// 16-texel irradiance map and a 128x128 table: 2e7 samples, a tenth of the
-// reference settings' (docs/lighting.md).
+// 16-texel irradiance map and a 64x64 table, with 256 GGX and 2048 Lambert
+// samples a texel: 1.3e7 samples, a sixteenth of the reference settings'
+// (docs/lighting.md).
 EnvOptions neutralOptions();
 
 // The filtered environment on the device. Cube levels are stored face after

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "pipeline/data/frame_buffers.h"
+#include "pipeline/shade/environment.h"
 #include "host/settings/render_settings.h"
 
 namespace rast {
@@ -35,6 +36,9 @@ struct ShadeParams {
   // only clear keys, and the GPU's shading skips reading them.
   int32_t blockFrames;
   int32_t anisotropy;  // most taps of anisotropic filtering (--filter auto, the glTF shading)
+  // Image-based light of the glTF shading (the renderer's environment), when useEnv.
+  int32_t useEnv;
+  EnvironmentGPU env;
 };
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);

@@ -19,6 +19,7 @@
 #include "pipeline/rules/raster_rules.h"
 #include "pipeline/rules/visbuffer_blocks.h"
 #include "pipeline/raster/raster_lines.h"
+#include "pipeline/shade/ibl_shading.h"
 #include "pipeline/shade/pbr_shading.h"
 #include "pipeline/shade/shade.h"
 #include "pipeline/shade/texture_sampling.h"
@@ -306,9 +307,10 @@ struct Shade {
 
   // The glTF 2.0 metallic-roughness model (pbr_shading.h) at a fragment with
   // barycentrics b and interpolated normal N, position P: the material's
-  // factors times its textures, the file's punctual lights (else a
-  // headlight, or --light), emission, and an ambient term standing in for
-  // image-based light, scaled by the occlusion texture. Linear light.
+  // factors times its textures, the file's punctual lights (else --light,
+  // or a headlight when there is no environment either), emission, and the
+  // environment's image-based light (ibl_shading.h), or without one an
+  // ambient term; both scaled by the occlusion texture. Linear light.
   KOKKOS_INLINE_FUNCTION float4 shadePbr(const TriFrag& f, int32_t X, int32_t Y, int32_t ox, int32_t oy, float b0,
                                          float b1, float b2, float3 N, const float3& P) const {
     MaterialGPU m{};
@@ -379,21 +381,25 @@ struct Shade {
       }
     } else if (p.headlight) {
       // Scaled by pi: a white Lambertian surface facing it reflects what
-      // the Lambert shading's headlight gives it.
+      // the Lambert shading's headlight gives it. With an environment, that
+      // lights a file without lights of its own instead.
       const float I = (1.0f - p.ambient) * pbr::kPi;
-      color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
+      if (!p.useEnv) color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
     } else {
       for (int k = 0; k < int(lights.extent(0)); ++k) {
         const float I = lights(k).intensity * pbr::kPi;
         color = color + pbr::shadeLight(s, N, V, lights(k).direction, float3{I, I, I});
       }
     }
-    // Ambient light in place of an environment, on the diffuse part,
-    // darkened by the occlusion texture (indirect light only).
+    // Indirect light (the environment's, else an ambient term on the
+    // diffuse part), darkened by the occlusion texture: only it.
     float ao = 1.0f;
     if (textured && m.occlusionTexture >= 0)
       ao = 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, uv, unorm, dx, dy).x - 1.0f);
-    if (numPunctual == 0) color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
+    if (p.useEnv)
+      color = color + iblShade(p.env, N, V, s.base, s.metallic, s.roughness, ao);
+    else if (numPunctual == 0)
+      color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
     float3 emissive = m.emissive;
     if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
       const float4 et = sampleMaterial(m.emissiveTexture, uv, lut, dx, dy);

@@ -71,10 +71,10 @@ def quat_from_minus_z(d):
     return [c[0] / n, c[1] / n, c[2] / n, w / n]
 
 
-def with_light(src, dst_dir, direction, intensity):
-    """A copy of `src` in dst_dir that has a directional light if it had none."""
+def with_light(src, dst_dir, direction, intensity, add=True):
+    """A copy of `src` in dst_dir that has a directional light if it had none (and `add`)."""
     doc, binary = read_gltf(src)
-    has = bool(doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights"))
+    has = bool(doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights")) or not add
     name = os.path.splitext(os.path.basename(src))[0]
     if not has:
         n = math.sqrt(sum(x * x for x in direction))
@@ -142,20 +142,21 @@ def main():
     ap.add_argument("--intensity", type=float, default=3.0)
     ap.add_argument("--extra-flags", default="", help="more rast render flags")
     ap.add_argument("--skip-ref", action="store_true", help="reuse OUT/*.ref.png")
+    ap.add_argument("--no-added-light", action="store_true", help="add no light to files without any (with --env)")
     ap.add_argument("models", nargs="+")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     direction = [float(x) for x in a.light.split(",")]
     jobs, rows = [], []
     for m in a.models:
-        name, lit, added = with_light(m, a.out, direction, a.intensity)
+        name, lit, added = with_light(m, a.out, direction, a.intensity, not a.no_added_light)
         cam = camera_flags(a.rast, lit, a.size, a.out)
         rast_png = os.path.join(a.out, name + ".rast.png")
         ref_png = os.path.join(a.out, name + ".ref.png")
         cmd = [a.rast, "render", lit, "--size", a.size, "-o", rast_png, "--shading", "pbr", "--aa", "none",
                "--tonemap", a.tonemap] + cam + a.extra_flags.split()
-        if a.env:
-            cmd += ["--env", a.env]
+        # The reference has no image-based light without --env: neither has rast then.
+        cmd += ["--env", a.env or "none"]
         r = subprocess.run(cmd, capture_output=True, text=True)
         if r.returncode != 0:
             rows.append({"model": name, "error": r.stderr.strip().splitlines()[-1]})

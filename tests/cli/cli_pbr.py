@@ -5,7 +5,10 @@
    asking for it), and differently from `--shading lambert`; a built-in scene
    keeps its Lambert look by default;
  - the file's own light replaces the headlight: turning the light away
-   darkens the image;
+   darkens the image (without an environment);
+ - the built-in neutral environment lights glTF files by default (`--env none`
+   turns it off), `--env FILE.hdr` reads a Radiance panorama, and a file that
+   is not one is refused in one line;
  - `--filter auto` (the default) honours the file's sampler filters under pbr
    (a nearest-filtered texture renders differently from a linear one), and
    `--tonemap pbr-neutral` is accepted and changes a bright image;
@@ -115,9 +118,23 @@ check(r.returncode == 0 and r2.returncode == 0 and open(os.path.join(args.workdi
 
 
 # The file's light: turned 90 degrees away (about x), the square goes dark.
-_, lit_png = render(lit, tag="litpng")
+_, lit_png = render(lit, "--env", "none", tag="litpng")
 away = scene("away", sun_rotation=(0.7071068, 0, 0, 0.7071068))
-_, away_png = render(away, tag="awaypng")
+_, away_png = render(away, "--env", "none", tag="awaypng")
+away_env, _ = render(away, tag="awayenv")
+check(away_env != open(away_png, "rb").read(), "the built-in environment lights the scene by default (--env none differs)")
+hdr = os.path.join(args.shared, "envs", "qwantani_afternoon_puresky_1k.hdr") if args.shared else ""
+if hdr and os.path.exists(hdr):
+    garden, _ = render(away, "--env", hdr, tag="hdr")
+    check(len(garden) > 0 and garden != away_env, "--env FILE.hdr lights with that panorama")
+else:
+    print("(no ../shared/envs: --env FILE.hdr is not tried)")
+bad = os.path.join(args.workdir, "not.hdr")
+with open(bad, "w") as f:
+    f.write("hello\n")
+r = run("render", away, "-o", os.path.join(args.workdir, "bad.png"), *VIEW, "--env", bad)
+lines = r.stderr.strip().splitlines()
+check(r.returncode != 0 and len(lines) == 1 and "hdr" in lines[0].lower(), f"a file that is not .hdr is refused in one line ({lines})")
 p1 = rastimg.read_png(lit_png)[3]
 p2 = rastimg.read_png(away_png)[3]
 s1, s2 = sum(p1), sum(p2)

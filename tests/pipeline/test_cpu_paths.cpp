@@ -230,7 +230,7 @@ TEST_CASE("the span kernel's bilinear texturing gives sampleBilinear's bits", "[
   const int32_t modes[3] = {int32_t(WrapRepeat), int32_t(WrapClamp), int32_t(WrapMirror)};
   for (int32_t ms : modes)
     for (int32_t mt : modes) {
-      TextureGPU t{0, W, H, ms, mt, 1};
+      TextureGPU t{0, W, H, ms, mt, 1, 9729, 9987};
       shading::SpanTex st{tx.data(), lutv.data(), W, H, ms, mt, 0, 0, 0, 0, 0, 0, 1};
       // Spans of up to 64 pixels whose weights put u and v anywhere: pixel j
       // interpolates corner coordinates with weights (b0, b1, b2).

@@ -94,7 +94,7 @@ TEST_CASE("nearest and bilinear sampling with every wrap mode", "[texture]") {
   const std::vector<uint32_t> texels = {grey(0), grey(100), grey(200), grey(255)};
   const HostTexels T{&texels};
   const IdentityLut L;
-  TextureGPU t{0, 2, 2, WrapRepeat, WrapRepeat, 1};
+  TextureGPU t{0, 2, 2, WrapRepeat, WrapRepeat, 1, 9729, 9987};
   auto g = [](rast::float4 c) { return double(c.x) * 255.0; };
 
   SECTION("nearest picks the texel containing the coordinate") {

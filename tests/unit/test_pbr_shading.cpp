@@ -57,6 +57,7 @@ float3 centre(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) {
   RenderSettings rs;
   rs.width = rs.height = kSize;
   rs.shading = ShadingMode::Pbr;
+  rs.environment = "none";  // the file's lights alone: the closed forms below
   rs.filter = TexFilter::Nearest;
   const uint32_t c = test::renderFrame(s, cam, rs).color[size_t(kSize / 2) * kSize + kSize / 2];
   return float3{float(srgbDecode((c & 0xff) / 255.0)), float(srgbDecode(((c >> 8) & 0xff) / 255.0)),
