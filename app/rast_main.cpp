@@ -148,9 +148,12 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       f.write(row.data(), row.size() * sizeof(float));
     }
   } else {
-    writePng(open(out), rs.width, rs.height, r.colorTopDown());
+    writePng(open(out), rs.width, rs.height, r.colorTopDown(), rs.background.w < 1.0f);
   }
   for (const auto& f : files) f->commit();
+  if (st.blendFallback)
+    std::fprintf(stderr, "rast: note: storing every BLEND fragment (%llu) would exceed the memory budget: drawn with "
+                         "--transparency kbuffer (k %d) instead\n", (unsigned long long)st.blendFragments, rs.blendK);
   std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s, aa %s)\n", printable(out).c_str(), rs.width,
               rs.height, st.trianglesIn, st.rasterTris, toString(st.method), aaName(rs).c_str());
   return 0;

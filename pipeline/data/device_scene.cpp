@@ -83,6 +83,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     d.vertDraw = uploadVec("scene.vertDraw", vertDraw);
   }
   d.uploadLinesAndPoints(s);
+  d.uploadAlphaDraws(s);
 
   std::vector<MaterialGPU> mats;
   for (const Material& m : s.materials) {
@@ -99,7 +100,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     g.occlusionStrength = m.occlusionStrength;
     g.emissive = m.emissive;
     g.flags = (m.unlit ? kMaterialUnlit : 0) | (m.doubleSided ? kMaterialDoubleSided : 0) |
-              (m.alphaMode == AlphaMode::Opaque ? kMaterialOpaque : 0);
+              (m.alphaMode != AlphaMode::Blend ? kMaterialOpaque : 0);  // MASK: opaque where the alpha test keeps it
     mats.push_back(g);
   }
   d.materials = uploadVec("scene.materials", mats);
@@ -186,7 +187,7 @@ size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
          viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
-         viewBytes(points);
+         viewBytes(points) + viewBytes(alphaDraws);
 }
 
 }  // namespace rast
