@@ -54,9 +54,9 @@ const Transparency kMethods[] = {Transparency::Exact, Transparency::Sorted, Tran
 TEST_CASE("MASK: fragments below the cutoff lose the depth test in every raster method", "[transparency][mask]") {
   const Scene s = builtinScene("builtin:cutout");  // backdrop: triangles 1-2; the mask quad: 3-4
   RenderSettings rs = small();
-  std::vector<uint32_t> first;
-  for (RasterMethod m : allRasterMethods()) {
-    for (int msaa : {1, 4}) {
+  for (int msaa : {1, 4}) {
+    std::vector<uint32_t> first;  // ids are the first sample's: per sample count
+    for (RasterMethod m : allRasterMethods()) {
       INFO(toString(m) << " msaa " << msaa);
       rs.raster = m;
       rs.msaa = msaa;
@@ -158,9 +158,15 @@ TEST_CASE("BLEND: each method's failure mode within its bound", "[transparency][
   SECTION("alpha outside [0, 1] is clamped") {
     CHECK(sameBits(with("builtin:layers?n=2&alpha=7", Transparency::Exact),
                    with("builtin:layers?n=2&alpha=1", Transparency::Exact)));
-    const std::vector<float4> none = with("builtin:layers?n=2&alpha=-3", Transparency::Exact);
-    const float4 c = none[size_t(rs.height / 2) * rs.width + rs.width / 2];
-    CHECK((c.x == 1.0f && c.y == 0.0f && c.z == 0.0f));  // the opaque red backdrop alone
+    // Alpha 0: every fragment dropped; the image is the opaque backdrop's
+    // alone (drawn directly, without the film: the same bytes).
+    auto colour = [&](const char* scene) {
+      const Scene s = builtinScene(scene);
+      Renderer r(s);
+      r.render(defaultCamera(s), rs);
+      return r.colorTopDown();
+    };
+    CHECK(colour("builtin:layers?n=2&alpha=-3") == colour("builtin:layers?n=0"));
   }
 }
 
@@ -180,7 +186,7 @@ TEST_CASE("BLEND: a store over the memory budget falls back to kbuffer and says 
   CHECK(tight.transparency == Transparency::KBuffer);
   RenderSettings k = rs;
   k.transparency = Transparency::KBuffer;
-  CHECK(sameBits(f, film(s, k)));
+  CHECK(maxDiff(f, film(s, k)) < 1e-5);  // the merged rest is summed with float atomics: any order
 }
 
 TEST_CASE("an opaque scene allocates nothing for transparency", "[transparency]") {
