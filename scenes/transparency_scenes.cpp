@@ -61,6 +61,7 @@ Scene transparencyLayers(const Params& p) {
   const bool mixed = param(p, "mixed", 0, 0, 1) != 0, unlit = param(p, "unlit", 1, 0, 1) != 0;
   const bool back = param(p, "back", 1, 0, 1) != 0, cross = param(p, "cross", 0, 0, 1) != 0;
   const bool equal = param(p, "equal", 0, 0, 1) != 0;
+  const double nearest = param(p, "near_alpha", -1, -1, 1);  // >= 0: the nearest layer's alpha (a strong layer in front)
   const bool front = p.count("order") && p.at("order") == "front";
   if (p.count("order") && !front && p.at("order") != "back") throw Error("builtin:layers order must be back or front");
   if (back) {
@@ -76,6 +77,7 @@ Scene transparencyLayers(const Params& p) {
       c = float4{float(std::fabs(std::fmod(h, 2.0) - 1.0)), float(layer % 3) / 2.0f, float(1 - layer % 2),
                  float(0.2 + 0.7 * std::fmod(layer * 0.618034, 1.0))};
     }
+    if (layer == 0 && nearest >= 0.0) c.w = float(nearest);
     // Neighbours tilted opposite ways about the vertical axis cross mid-screen.
     const double t = cross ? (layer % 2 ? 0.08 : -0.08) : 0.0;
     const double z[4] = {zc - t, zc + t, zc + t, zc - t};

@@ -161,6 +161,27 @@ struct CountScan {
   }
 };
 
+// The resolve's work item: a run of kResolveRun pixels along a row, keeping
+// the per-triangle lookups (AlphaTri, TriFrag) of the last kResolveCache
+// triangles it shaded: the layers over neighbouring pixels are mostly the
+// same few triangles, and one entry re-prepared for each fragment of a pixel
+// of 8 layers cost more than the shading. A GPU keeps a pixel a thread and one
+// entry (registers).
+constexpr int32_t kResolveRun = kOnDevice ? 1 : 16;
+constexpr int kResolveCache = kOnDevice ? 1 : 8;
+struct FragCache {
+  AlphaTri a[kResolveCache];
+  TriFrag tf[kResolveCache];
+  int next = 0;
+  KOKKOS_INLINE_FUNCTION int slot(uint32_t index) {
+    for (int k = 0; k < kResolveCache; ++k)
+      if (a[k].index == index) return k;
+    const int k = next;
+    next = next + 1 == kResolveCache ? 0 : next + 1;
+    return k;
+  }
+};
+
 struct Resolve {
   FragShade fs;
   DView<float4> hdr, accum;
@@ -168,7 +189,12 @@ struct Resolve {
   DView<uint32_t> count, end;
   DView<uint64_t> frags, slots;
   uint64_t fragCapacity;
-  int32_t width, method, k;
+  int32_t width, method, k, runsPerRow;
+
+  KOKKOS_INLINE_FUNCTION float4 at(uint32_t index, int32_t X, int32_t Y, int s, FragCache& c) const {
+    const int e = c.slot(index);
+    return fs.at(index, X, Y, s, c.a[e], c.tf[e]);
+  }
 
   KOKKOS_INLINE_FUNCTION static void sortKeys(uint64_t* v, uint32_t c) {
     // Shell sort with Ciura's gaps, in place: keys are unique, so the order
@@ -192,13 +218,17 @@ struct Resolve {
     T = T * (1.0f - c.w);
   }
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t i) const {
-    const int32_t Y = int32_t(i / width), X = int32_t(i - int64_t(Y) * width);
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
+    const int32_t Y = int32_t(item / runsPerRow), x0 = int32_t(item - int64_t(Y) * runsPerRow) * kResolveRun;
+    const int32_t x1 = x0 + kResolveRun < width ? x0 + kResolveRun : width;
+    FragCache c;
+    for (int32_t X = x0; X < x1; ++X) pixel(int64_t(Y) * width + X, X, Y, c);
+  }
+
+  KOKKOS_INLINE_FUNCTION void pixel(const int64_t i, const int32_t X, const int32_t Y, FragCache& cache) const {
     const int S = fs.sp.count;
     const float4 opq = hdr(i);
     float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
-    AlphaTri a;
-    TriFrag tf;
     for (int s = 0; s < S; ++s) {
       const int64_t q = i * S + s;
       float3 acc{0.0f, 0.0f, 0.0f};
@@ -212,7 +242,7 @@ struct Resolve {
       } else if (method == int32_t(Transparency::KBuffer)) {
         const uint64_t* sl = slots.data() + size_t(q) * size_t(k);
         for (int j = 0; j < k && sl[j] != kEmptySlot && T > 0.0f; ++j)
-          over(acc, T, fs.at(uint32_t(sl[j]) - 1u, X, Y, s, a, tf));
+          over(acc, T, at(uint32_t(sl[j]) - 1u, X, Y, s, cache));
         const float4 w = accum(q);
         if (w.w > 0.0f) {  // the merged rest, behind the k nearest
           const float A = 1.0f - reveal(q);
@@ -223,7 +253,7 @@ struct Resolve {
         if (c > 0 && uint64_t(e) <= fragCapacity && e >= c) {
           uint64_t* v = frags.data() + (e - c);
           sortKeys(v, c);
-          for (uint32_t j = 0; j < c && T > 0.0f; ++j) over(acc, T, fs.at(indexOf(v[j]), X, Y, s, a, tf));
+          for (uint32_t j = 0; j < c && T > 0.0f; ++j) over(acc, T, at(indexOf(v[j]), X, Y, s, cache));
         }
       }
       const float4 out{acc.x + T * opq.x, acc.y + T * opq.y, acc.z + T * opq.z, 1.0f - T * (1.0f - opq.w)};
@@ -309,10 +339,10 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                   const BlendPlan& b) {
   const BlendBuffers& bb = f.blend;
-  const int64_t n = int64_t(f.vp.width) * f.vp.height;
-  Kokkos::parallel_for("rast::blend::resolve", Range(0, n),
+  const int32_t runs = (f.vp.width + kResolveRun - 1) / kResolveRun;
+  Kokkos::parallel_for("rast::blend::resolve", Range(0, int64_t(runs) * f.vp.height),
                        Resolve{makeFragShade(s, f, p, lights), f.post.hdr, bb.accum, bb.reveal, bb.count, bb.end,
-                               bb.frags, bb.slots, bb.fragCapacity, f.vp.width, int32_t(b.method), b.k});
+                               bb.frags, bb.slots, bb.fragCapacity, f.vp.width, int32_t(b.method), b.k, runs});
 }
 
 }  // namespace rast

@@ -28,7 +28,7 @@ SCENES = [
     ("mixed x32", "builtin:layers?n=32&mixed=1"),
     ("intersecting x8", "builtin:layers?n=8&mixed=1&cross=1"),
     ("coplanar x6", "builtin:layers?n=6&mixed=1&equal=1"),
-    ("strong front x8", "builtin:layers?n=8&mixed=1&order=front"),
+    ("strong front x8", "builtin:layers?n=8&mixed=1&near_alpha=0.95"),
     ("equal alpha x64", "builtin:layers?n=64&alpha=0.1"),
 ]
 METHODS = ["exact", "kbuffer", "weighted", "sorted"]

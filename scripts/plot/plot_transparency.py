@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 ap = argparse.ArgumentParser()
 ap.add_argument("csv")
 ap.add_argument("--out", required=True)
+ap.add_argument("--note", default="", help="a line under the title (e.g. how loaded the machine was)")
 a = ap.parse_args()
 rows = list(csv.DictReader(open(a.csv)))
 markers = {"exact": "o", "kbuffer": "s", "weighted": "^", "sorted": "D"}
@@ -31,12 +32,13 @@ for ax, col, title in [(axes[0], "rmse_vs_exact", "error against exact"),
         for x, y, s in pts:
             ax.annotate(s, (x, y), fontsize=6, alpha=0.6)
     ax.set_yscale("log")
+    ax.set_xscale("log")
     ax.set_xlabel("frame time / opaque frame time")
     ax.set_ylabel("RMSE, linear light (1e-7: exact)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
 b = rows[0]
-fig.suptitle(f"transparency methods, {b['size']}, {b['backend']}")
+fig.suptitle(f"transparency methods, {b['size']}, {b['backend']}" + (f"\n{a.note}" if a.note else ""))
 fig.tight_layout()
 fig.savefig(a.out, dpi=110)

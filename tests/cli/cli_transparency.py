@@ -3,7 +3,8 @@
 gives the same bytes under every raster method, sample count and backend (the
 OpenMP rast and its Serial twin); the unlit arithmetic check (blue at alpha 0.5
 over opaque red is (0.5, 0, 0.5) in linear light, sRGB 188) holds under every
-method; a bad method name is one error line. Exit 77 when the Serial twin was
+method; `--background transparent` writes straight-alpha RGBA; a bad method
+name is one error line. Exit 77 when the Serial twin was
 not built."""
 import os
 import subprocess
@@ -40,6 +41,16 @@ for method in ["exact", "sorted", "kbuffer", "weighted", "auto"]:
                   "--shading", "pbr")
     if pixel(rgba, 80, 45) != (188, 0, 188):
         failures.append(f"{method}: blue 0.5 over red gave {pixel(rgba, 80, 45)}, expected (188, 0, 188)")
+
+# A transparent background: RGBA, straight alpha. Two blue layers of alpha 0.5
+# over nothing cover 0.75: (0, 0, 255) at alpha 191.
+out = os.path.join(args.workdir, "rgba.png")
+subprocess.run([args.rast, "render", "builtin:layers?n=2&alpha=0.5&back=0", "--shading", "pbr", "--background",
+                "transparent", "--size", "160x90", "-o", out], check=True, capture_output=True)
+rgba = rastimg.read_png(out)[3]
+if tuple(rgba[4 * (45 * 160 + 80):4 * (45 * 160 + 80) + 4]) != (0, 0, 255, 191):
+    failures.append(f"transparent background: {tuple(rgba[4 * (45 * 160 + 80):4 * (45 * 160 + 80) + 4])}, "
+                    "expected (0, 0, 255, 191)")
 
 # exact: the same bytes under every raster method, sample count and backend.
 exes = [("openmp", args.rast)] + ([("serial", args.rast_serial)] if args.rast_serial else [])
