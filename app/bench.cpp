@@ -3,6 +3,9 @@
 #include "host/image/safe_output.h"
 
 #include "backends/stage_timer.h"
+#include "app/distribute.h"
+#include "host/distributed/ranks.h"
+#include "host/scene/animation.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
 #include "app/progress.h"
@@ -154,18 +157,26 @@ void BenchOptions::addTo(CLI::App& app) {
   app.add_option("--json", json, "write the rows as a JSON array to this file");
   app.add_option("--csv", csv, "write the rows as CSV to this file");
   app.add_flag("--all-methods", allMethods, "bench every raster method, then auto (overrides --raster)");
+  app.add_flag("--distribute", distribute, "under mpirun/srun: each rank draws its share of the scene, frames composited "
+                                          "(sort-last; stages composite and merge; docs/distributed.md)");
   app.add_option("--methods", methods, "comma-separated raster methods to bench, e.g. visbuffer,binned,auto");
 }
 
 int runBench(const SceneOptions& so, const BenchOptions& bo) {
   RenderSettings rs = so.settings();
-  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
-  const Camera cam = so.camera(scene);
+  if (bo.distribute) startDistributed();
+  RunScene loaded;
+  together(bo.distribute, [&] { loaded = loadRunScene(so, bo.distribute); });
+  Scene& scene = loaded.scene;
+  const Camera cam = loaded.camera;
   so.applySceneLook(scene, rs, /*still=*/false);
   const std::string sceneName = so.scene.empty() ? "builtin:default" : so.scene;
   std::printf("rast: bench %s at %dx%d on %s, camera %s\n", sceneName.c_str(), rs.width, rs.height, Exec::name(),
               cam.flags().c_str());
-  Renderer r(scene, so.memoryBudget());
+  std::unique_ptr<Renderer> rp;
+  together(bo.distribute, [&] { rp = std::make_unique<Renderer>(scene, so.memoryBudget()); });
+  Renderer& r = *rp;
+  if (loaded.split) r.setSplit(loaded.split.get());
   std::vector<RasterMethod> methods = bo.allMethods ? allRasterMethods() : std::vector<RasterMethod>{rs.raster};
   if (bo.allMethods) methods.push_back(RasterMethod::Auto);
   if (!bo.methods.empty()) {
@@ -177,7 +188,7 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
   std::vector<BenchRow> rows;
   for (RasterMethod m : methods) {
     rs.raster = m;
-    rows.push_back(benchOne(r, cam, rs, bo, sceneName));
+    frames(bo.distribute, [&] { rows.push_back(benchOne(r, cam, rs, bo, sceneName)); });
   }
 
   std::printf("%-16s", "method");
@@ -193,6 +204,31 @@ int runBench(const SceneOptions& so, const BenchOptions& bo) {
   std::printf("(milliseconds, median of %d frames after %d warm-up; stages from frames timed stage by stage, total from "
               "as many frames timed whole; minimum needed %.1f MiB; float film and post buffers %.1f MiB)\n",
               bo.frames, bo.warmup, rows[0].stats.minimumBytes / 1048576.0, rows[0].stats.filmBytes / 1048576.0);
+
+  if (bo.distribute && Ranks::rank() != 0) return 0;  // rank 0 writes the rows
+  // An animated scene: what a new pose costs before its frame (docs/animation.md):
+  // evaluating the animations and morphing on the host, then sending the pose
+  // (draw matrices, joint palette, morphed vertices) into the renderer's buffers.
+  if (scene.rig && !scene.rig->animations.empty()) {
+    PoseRequest pr = so.poseRequest(scene).value_or(PoseRequest{});
+    double a = 0.0, b = 0.0;
+    for (const Animation& an : scene.rig->animations)
+      if (pr.animation < 0 || &an == &scene.rig->animations[size_t(pr.animation)]) b = std::max(b, an.end);
+    std::vector<double> evalMs, sendMs;
+    for (int i = 0; i < bo.frames; ++i) {
+      pr.time = a + (b - a) * i / std::max(1, bo.frames - 1);
+      Kokkos::Timer t;
+      poseScene(scene, pr, /*skinOnHost=*/false);
+      evalMs.push_back(t.seconds() * 1e3);
+      Kokkos::Timer u;
+      r.updatePose(scene);
+      Exec().fence();
+      sendMs.push_back(u.seconds() * 1e3);
+    }
+    std::printf("animation: %.4f ms to pose (evaluate %zu animations, morph), %.4f ms to send the pose (median of %d poses "
+                "over 0..%.3g s; skinning is in the vertex stage)\n",
+                median(evalMs), scene.rig->animations.size(), median(sendMs), bo.frames, b);
+  }
 
   // Written atomically (host/image/safe_output.h), as every output of rast.
   if (!bo.json.empty()) {

@@ -10,6 +10,7 @@ struct BenchOptions {
   int frames = 100, warmup = 10;
   std::string json, csv;
   bool allMethods = false;
+  bool distribute = false;  // under mpirun: sort-last over the ranks (docs/distributed.md)
   std::string methods;  // comma list of methods (auto allowed); overrides --raster
   void addTo(CLI::App& app);
 };

@@ -43,6 +43,11 @@ void SceneOptions::addTo(CLI::App& app) {
                                              "material model and the file's lights, for glTF files; lambert for builtin scenes)");
   app.add_option("--filter", filter, "texture filter: auto|nearest|bilinear|trilinear (auto: the glTF samplers' filters under pbr, bilinear otherwise)")->capture_default_str();
   app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8 (default: none; msaa4 for the default scene's image)");
+  app.add_option("--anisotropy", anisotropy,
+                 "anisotropic filtering's most taps, 1..16, where a glTF sampler filters between mipmap levels "
+                 "(--filter auto, the glTF shading; 16 as the Khronos Sample Renderer asks WebGL for)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16));
   app.add_flag("--reference", reference, "ground truth: 16x16 stratified samples per pixel (slow on purpose)");
   app.add_option("--reference-grid", referenceGrid, "reference samples per pixel side")->capture_default_str();
   app.add_option("--interp", interp, "attribute interpolation: perspective|affine (affine only to compare)")
@@ -68,6 +73,8 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--point-size", pointSize, "point size in pixels, 1..64")->capture_default_str();
   app.add_flag("--allow-external-files", allowExternalFiles,
                "let a glTF file read buffers and images outside its own folder (absolute paths, ..)");
+  app.add_option("--time", time, "pose the scene's animations at this time in seconds (docs/animation.md)");
+  app.add_option("--animation", animation, "which animation plays: its index N (from 0) or its name (default: all)");
   app.add_option("--max-memory", maxMemory,
                  "memory that loading and rendering may use, e.g. 512M or 4G (default: half of physical memory, " +
                      formatBytes(defaultMemoryBudget()) + " here)");
@@ -84,6 +91,23 @@ LoadOptions SceneOptions::loadOptions() const {
   return o;
 }
 
+std::optional<PoseRequest> SceneOptions::poseRequest(const Scene& scene) const {
+  if (!time && animation.empty()) return std::nullopt;
+  if (time && !std::isfinite(*time)) throw Error("--time must be a finite number of seconds");
+  if (!scene.rig || scene.rig->animations.empty()) {
+    if (!animation.empty()) throw Error("--animation: the scene has no animations");
+    return std::nullopt;  // --time on a scene that does not move: its one pose
+  }
+  PoseRequest r;
+  r.time = time.value_or(0.0);
+  if (!animation.empty()) r.animation = findAnimation(*scene.rig, animation);
+  return r;
+}
+
+void SceneOptions::pose(Scene& scene) const {
+  if (const auto r = poseRequest(scene)) poseScene(scene, *r);
+}
+
 RenderSettings SceneOptions::settings() const {
   RenderSettings rs;
   int w = 0, h = 0;
@@ -97,6 +121,7 @@ RenderSettings SceneOptions::settings() const {
   rs.cull = parseCull(cull);
   rs.shading = shading.empty() ? ShadingMode::Lambert : parseShading(shading);
   rs.filter = parseFilter(filter);
+  rs.anisotropy = anisotropy;
   rs.raster = parseRaster(raster);
   rs.transparency = parseTransparency(transparency);
   if (blendK < 1 || blendK > 64) throw Error("--blend-k must be 1..64");

@@ -4,6 +4,7 @@
 
 #include "host/scene/camera.h"
 #include "host/gltf/gltf_loader.h"
+#include "host/scene/animation.h"
 #include "host/settings/render_settings.h"
 
 #include <CLI/CLI.hpp>
@@ -38,9 +39,14 @@ struct SceneOptions {
   std::string polygon = "fill";  // points and lines (docs/points-lines.md)
   bool wireframe = false, hiddenLine = false;
   double lineWidth = 1.0, pointSize = 1.0;
+  int anisotropy = 16;  // anisotropic filtering's most taps (--filter auto, the glTF shading)
   // Security and resource limits (docs/security.md).
   bool allowExternalFiles = false;
   std::string maxMemory;  // empty: defaultMemoryBudget()
+  // Animation (docs/animation.md): the time to pose the scene at, and which
+  // animation plays (index or name; empty: all of them).
+  std::optional<double> time;
+  std::string animation;
 
   void addTo(CLI::App& app);
   // How the scene file may be read, and the bytes loading and rendering may use.
@@ -54,6 +60,12 @@ struct SceneOptions {
   // where its cost is a fraction of a second, not for interactive or timed frames).
   void applySceneLook(const Scene& scene, RenderSettings& rs, bool still) const;
   bool cameraGiven() const { return !eye.empty() || !target.empty() || !up.empty(); }
+  // The pose --time/--animation ask for (at time 0 when only --animation is given);
+  // nullopt when neither is given. Throws Error for an unknown animation or a
+  // scene without any.
+  std::optional<PoseRequest> poseRequest(const Scene& scene) const;
+  // Poses the scene as poseRequest() says (nothing when it says nothing).
+  void pose(Scene& scene) const;
 };
 
 // "scene" when the scene carries its own camera, "auto" when it is framed.

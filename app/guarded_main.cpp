@@ -159,6 +159,8 @@ int guardedMain(const char* program, int argc, char** argv, const std::function<
   ownArgs.push_back(nullptr);
   try {
     rc = run(oargc, ownArgs.data());
+  } catch (const QuietFailure&) {
+    rc = 1;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "%s: error: out of memory\n", program);
   } catch (const std::exception& e) {  // rast::Error and anything else

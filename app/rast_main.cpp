@@ -19,12 +19,18 @@
 #include "app/cli_options.h"
 #include "app/progress.h"
 #include "app/scene_info.h"
+#include "app/views.h"
+#include "app/distribute.h"
+#include "host/distributed/ranks.h"
+#include "host/scene/camera_list.h"
+#include "app/sequence_cmd.h"
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -59,48 +65,19 @@ AovRequest parseAovs(const std::vector<std::string>& items) {
 // AOVs named *.npy are written as NumPy arrays, top row first (host/image/image_io.h).
 bool isNpy(const std::string& f) { return f.size() > 4 && (f.compare(f.size() - 4, 4, ".npy") == 0 || f.compare(f.size() - 4, 4, ".NPY") == 0); }
 
-int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<std::string>& aovItems) {
-  RenderSettings rs = so.settings();
-  const AovRequest aov = parseAovs(aovItems);
-  rs.wantDepth = !aov.depth.empty();
-  rs.wantPrimId = !aov.primid.empty();
-  rs.wantNormals = !aov.normals.empty();
-  const auto endsWith = [&out](const char* ext) {
-    const std::string e(ext);
-    return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
-  };
-  if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
-  rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
-  if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
-  // Every output is checked before the (possibly long) render, not after it:
-  // writable, and neither an input of the run nor another of its outputs.
-  checkOutputPath(out, "-o");
-  OutputSet outputs;
-  outputs.addOutput(out, "-o");
-  for (const auto& [file, what] : {std::pair{&aov.depth, "--aov depth"}, std::pair{&aov.primid, "--aov primid"},
-                                   std::pair{&aov.normals, "--aov normals"}, std::pair{&aov.ao, "--aov ao"}})
-    if (!file->empty()) {
-      checkOutputPath(*file, "--aov");
-      outputs.addOutput(*file, what);
-    }
-  if (!so.scene.empty() && so.scene.rfind("builtin:", 0) != 0) outputs.addInput(so.scene, "the scene file");
-  outputs.check();
-  const Scene scene = loadSceneArg(so.scene, so.loadOptions());
-  for (const std::string& f : scene.sourceFiles) outputs.addInput(f, "a file the scene reads");
-  outputs.check();
-  const Camera cam = so.camera(scene);
-  so.applySceneLook(scene, rs, /*still=*/true);
-  if (!so.cameraGiven())
-    std::printf("rast: camera (%s) %s\n", so.fileCamera.empty() ? cameraOrigin(scene) : ("file camera " + so.fileCamera).c_str(),
-                cam.flags().c_str());
-  Renderer r(scene, so.memoryBudget());
-  Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
-  if (progress.active()) r.onPass = [&progress](int done, int total) { progress.update(done, total); };
-  const FrameStats st = r.render(cam, rs);
-  // Every output goes to a temporary file beside its path first; only when all
-  // are complete are they renamed into place, so a failed write leaves every
-  // file that was there as it was (host/image/safe_output.h). Any AOV may be
-  // a .npy (numpy, top row first) instead of its PFM / ids file.
+std::string versionText() {
+  char b[160];
+  std::snprintf(b, sizeof b, "rast %s (Kokkos %d.%d.%d, %s backend)", RAST_VERSION, KOKKOS_VERSION / 10000,
+                KOKKOS_VERSION / 100 % 100, KOKKOS_VERSION % 100, Exec::name());
+  return b;
+}
+
+// Writes the last frame's outputs: every file goes to a temporary file beside
+// its path first; only when all are complete are they renamed into place, so a
+// failed write leaves every file that was there as it was
+// (host/image/safe_output.h). Any AOV may be a .npy (numpy, top row first)
+// instead of its PFM / ids file.
+void writeOutputs(const Renderer& r, const RenderSettings& rs, const AovRequest& aov, const std::string& out) {
   std::vector<std::unique_ptr<AtomicFile>> files;
   const auto open = [&files](const std::string& path) -> AtomicFile& {
     files.push_back(std::make_unique<AtomicFile>(path));
@@ -151,11 +128,111 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
     writePng(open(out), rs.width, rs.height, r.colorTopDown(), rs.background.w < 1.0f);
   }
   for (const auto& f : files) f->commit();
-  if (st.blendFallback)
-    std::fprintf(stderr, "rast: note: storing every BLEND fragment (%llu) would exceed the memory budget: drawn with "
-                         "--transparency kbuffer (k %d) instead\n", (unsigned long long)st.blendFragments, rs.blendK);
-  std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised, method %s, aa %s)\n", printable(out).c_str(), rs.width,
-              rs.height, st.trianglesIn, st.rasterTris, toString(st.method), aaName(rs).c_str());
+}
+
+// The outputs of view `v` (many views: each name's %d replaced by v).
+AovRequest viewAovs(const AovRequest& a, bool many, size_t v) {
+  if (!many) return a;
+  AovRequest r;
+  for (auto [src, dst] : {std::pair{&a.depth, &r.depth}, std::pair{&a.primid, &r.primid},
+                          std::pair{&a.normals, &r.normals}, std::pair{&a.ao, &r.ao}})
+    if (!src->empty()) *dst = viewPath(*src, v, "--aov");
+  return r;
+}
+
+int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<std::string>& aovItems,
+              const std::string& cameraFile, bool distribute) {
+  // Under --distribute (docs/distributed.md) a list of views is spread over
+  // the ranks, each rendering and writing its own; one view is cut by
+  // geometry (sort-last): each rank draws its share, rank 0 writes the frame.
+  // Every step that may fail is taken together: one rank's failure ends all.
+  if (distribute) startDistributed();
+  const bool many = !cameraFile.empty(), sortLast = distribute && !many;
+  RenderSettings rs;
+  AovRequest aov;
+  together(distribute, [&] {
+    rs = so.settings();
+    aov = parseAovs(aovItems);
+    rs.wantDepth = !aov.depth.empty();
+    rs.wantPrimId = !aov.primid.empty();
+    rs.wantNormals = !aov.normals.empty();
+    const auto endsWith = [&out](const char* ext) {
+      const std::string e(ext);
+      return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
+    };
+    if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
+    rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
+    if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
+    if (sortLast && rs.shading == ShadingMode::Depth)
+      throw Error("--distribute: --shading depth scales by the depth range of the whole frame, which no rank sees; "
+                  "use --aov depth=F instead");
+  });
+  // Every output is checked before the (possibly long) render, not after it:
+  // writable, and neither an input of the run nor another of its outputs. With
+  // many views every name is checked once the views are known.
+  const auto checkOutputs = [&](size_t views, const Scene* scene) {
+    OutputSet outputs;
+    for (size_t v = 0; v < views; ++v) {
+      const std::string o = many ? viewPath(out, v, "-o") : out;
+      const AovRequest a = viewAovs(aov, many, v);
+      checkOutputPath(o, "-o");
+      outputs.addOutput(o, "-o");
+      for (const auto& [file, what] : {std::pair{&a.depth, "--aov depth"}, std::pair{&a.primid, "--aov primid"},
+                                       std::pair{&a.normals, "--aov normals"}, std::pair{&a.ao, "--aov ao"}})
+        if (!file->empty()) {
+          checkOutputPath(*file, "--aov");
+          outputs.addOutput(*file, what);
+        }
+    }
+    if (!so.scene.empty() && so.scene.rfind("builtin:", 0) != 0) outputs.addInput(so.scene, "the scene file");
+    if (many) outputs.addInput(cameraFile, "the --cameras file");
+    if (scene)
+      for (const std::string& f : scene->sourceFiles) outputs.addInput(f, "a file the scene reads");
+    outputs.check();
+  };
+  const bool writer = !sortLast || Ranks::rank() == 0;
+  together(distribute, [&] { checkOutputs(1, nullptr); });
+  RunScene loaded;
+  std::vector<Camera> cams;
+  together(distribute, [&] {
+    loaded = loadRunScene(so, sortLast);
+    cams = many ? loadCameraList(cameraFile, loaded.camera, rs.width, rs.height) : std::vector<Camera>{loaded.camera};
+    if (writer) checkOutputs(cams.size(), &loaded.scene);
+  });
+  const Scene& scene = loaded.scene;
+  const Camera& cam = loaded.camera;
+  so.applySceneLook(scene, rs, /*still=*/true);
+  if (!so.cameraGiven() && !many)
+    std::printf("rast: camera (%s) %s\n", so.fileCamera.empty() ? cameraOrigin(scene) : ("file camera " + so.fileCamera).c_str(),
+                cam.flags().c_str());
+  std::unique_ptr<Renderer> r;
+  together(distribute, [&] { r = std::make_unique<Renderer>(scene, so.memoryBudget()); });
+  if (loaded.split) r->setSplit(loaded.split.get());
+  Progress progress(rs.reference ? "rast: reference passes" : "rast: supersampling passes");
+  if (progress.active()) r->onPass = [&progress](int done, int total) { progress.update(done, total); };
+  // One renderer for every view: its buffers are reused from view to view.
+  // Spread over ranks, view v is rank v mod N's.
+  const size_t step = distribute && many ? size_t(Ranks::size()) : 1, first = distribute && many ? size_t(Ranks::rank()) : 0;
+  for (size_t v = first; v < cams.size(); v += step) {
+    FrameStats st;
+    const std::string o = many ? viewPath(out, v, "-o") : out;
+    if (many && distribute) {
+      st = r->render(cams[v], rs);  // this rank's alone: its failure is its own
+      writeOutputs(*r, rs, viewAovs(aov, many, v), o);
+    } else {
+      frames(sortLast, [&] { st = r->render(cams[v], rs); });
+      together(sortLast, [&] {
+        if (writer) writeOutputs(*r, rs, viewAovs(aov, many, v), o);
+      });
+    }
+    if (sortLast) st.trianglesIn = uint32_t(loaded.trianglesAll);
+    if (st.blendFallback)
+      std::fprintf(stderr, "rast: note: storing every BLEND fragment (%llu) would exceed the memory budget: drawn "
+                           "with --transparency kbuffer (k %d) instead\n", (unsigned long long)st.blendFragments, rs.blendK);
+    std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised%s, method %s, aa %s)\n", printable(o).c_str(), rs.width,
+                rs.height, st.trianglesIn, st.rasterTris, sortLast ? " on rank 0" : "", toString(st.method),
+                aaName(rs).c_str());
+  }
   return 0;
 }
 
@@ -173,13 +250,6 @@ int cmdInfo() {
   return 0;
 }
 
-std::string versionText() {
-  char b[160];
-  std::snprintf(b, sizeof b, "rast %s (Kokkos %d.%d.%d, %s backend)", RAST_VERSION, KOKKOS_VERSION / 10000,
-                KOKKOS_VERSION / 100 % 100, KOKKOS_VERSION % 100, Exec::name());
-  return b;
-}
-
 int run(int argc, char** argv) {
   CLI::App app{"rast: a portable Kokkos rasterizer for glTF 2.0 scenes", "rast"};
   app.require_subcommand(0, 1);
@@ -195,6 +265,17 @@ int run(int argc, char** argv) {
   renderOpts.addTo(*render);
   render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
       ->capture_default_str();
+  std::string cameraFile;
+  render->add_option("--cameras", cameraFile, "many views: a JSON list of cameras ({\"eye\": [x,y,z], \"target\", \"up\", "
+                     "\"fovy\", \"near\", \"far\"}) or a NeRF transforms.json; outputs named with a view field, "
+                     "-o out_%04d.png (docs/distributed.md)");
+  bool distribute = false;
+  render->add_flag("--distribute", distribute, "under mpirun/srun: one view cut by geometry over the ranks (sort-last), "
+                   "or the --cameras views spread over them (docs/distributed.md)");
+  SequenceOptions seq;
+  render->add_option("--frames", seq.frames, "render the animation from START to END seconds at FPS frames a second, "
+                                              "START:END:FPS, to -o out_%04d.png or a video (.mp4, .webm, .gif through ffmpeg)");
+  render->add_option("--turntable", seq.turntable, "orbit the camera around its target in N frames (with --frames: N frames an orbit)");
   render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first)");
 
   SceneOptions benchOpts;
@@ -245,7 +326,12 @@ int run(int argc, char** argv) {
       }
     throw Error("help: no command '" + helpTopic + "' (commands: render, bench, compare, export, ssao-error, info)");
   }
-  if (render->parsed()) return cmdRender(renderOpts, out, aovs);
+  if (render->parsed() && seq.wanted()) {
+    if (!aovs.empty()) throw Error("--aov is for single images, not with --frames or --turntable");
+    if (!cameraFile.empty() || distribute) throw Error("--frames/--turntable cannot be combined with --cameras or --distribute");
+    return runSequence(renderOpts, seq, out);
+  }
+  if (render->parsed()) return cmdRender(renderOpts, out, aovs, cameraFile, distribute);
   if (bench->parsed()) return runBench(benchOpts, bo);
   if (compare->parsed()) return runCompare(compareOpts);
   if (ssaoErr->parsed()) return runSsaoError(ssaoOpts, seo);
@@ -273,4 +359,22 @@ int run(int argc, char** argv) {
 }  // namespace
 }  // namespace rast
 
-int main(int argc, char** argv) { return rast::guardedMain("rast", argc, argv, rast::run); }
+// MPI starts before Kokkos when --distribute is given, so that each rank's
+// device follows its place on the node (one rank per GPU); the other ranks'
+// standard output is silent (rank 0 speaks for the run).
+int main(int argc, char** argv) {
+  bool distribute = false, deviceGiven = false;
+  for (int i = 1; i < argc; ++i) {
+    distribute |= std::strcmp(argv[i], "--distribute") == 0;
+    deviceGiven |= std::strncmp(argv[i], "--kokkos-device", 15) == 0 || std::strncmp(argv[i], "--kokkos-num-devices", 20) == 0 ||
+                   std::strncmp(argv[i], "--kokkos-ndevices", 17) == 0;
+  }
+  rast::Ranks::start(&argc, &argv, distribute);
+  std::vector<char*> args(argv, argv + argc);
+  std::string device = "--kokkos-device-id=" + std::to_string(rast::Ranks::localRank());
+  if (distribute && rast::kOnDevice && !deviceGiven) args.push_back(&device[0]);
+  if (distribute && rast::Ranks::rank() != 0 && !std::freopen("/dev/null", "w", stdout)) return 1;
+  const int rc = rast::guardedMain("rast", int(args.size()), args.data(), rast::run);
+  rast::Ranks::finish();
+  return rc;
+}

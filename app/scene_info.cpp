@@ -1,5 +1,7 @@
 #include "app/scene_info.h"
 
+#include "host/scene/animation.h"
+
 #include <glm/glm.hpp>
 
 #include <cstdio>
@@ -12,7 +14,8 @@ bool extensionHonoured(const std::string& name) {
   // the material extensions (materials.cpp), which `--shading pbr` shades; every
   // other extension is ignored (and refused when a file requires it).
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_lights_punctual" ||
-         name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength";
+         name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength" || name == "EXT_mesh_gpu_instancing" ||
+         name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression";
 }
 
 void printSceneInfo(const Scene& s, const std::string& source) {
@@ -39,6 +42,21 @@ void printSceneInfo(const Scene& s, const std::string& source) {
     else
       std::snprintf(planes, sizeof planes, "near %.6g far infinite", c.znear);
     std::printf("  %zu '%s': %s, %s, at %.6g,%.6g,%.6g\n", i, c.name.c_str(), proj, planes, eye.x, eye.y, eye.z);
+  }
+
+  // What moves (docs/animation.md).
+  if (s.rig) {
+    size_t skinned = 0, morphed = 0;
+    for (const DeformedDraw& d : s.rig->deformed) {
+      skinned += d.skin >= 0;
+      morphed += d.targets > 0;
+    }
+    std::printf("animation: %zu animations, %zu skins; %zu skinned and %zu morphed draws (--time T, --animation N|NAME)\n",
+                s.rig->animations.size(), s.rig->skins.size(), skinned, morphed);
+    for (size_t i = 0; i < s.rig->animations.size(); ++i) {
+      const Animation& a = s.rig->animations[i];
+      std::printf("  %zu '%s': %zu channels, %.6g to %.6g s\n", i, a.name.c_str(), a.channels.size(), a.start, a.end);
+    }
   }
 
   const uint32_t lights = f.lightsDeclared[0] + f.lightsDeclared[1] + f.lightsDeclared[2];

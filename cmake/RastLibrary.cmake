@@ -35,7 +35,8 @@ target_compile_definitions(rast_lib PRIVATE $<TARGET_PROPERTY:rast_pipeline,INTE
 target_include_directories(rast_lib PUBLIC
   $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include> $<BUILD_INTERFACE:${RAST_GENERATED_INCLUDE}>
   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
-target_link_libraries(rast_lib PUBLIC Kokkos::kokkos)
+# The glTF loader's decoders (shared libraries: not in the archive).
+target_link_libraries(rast_lib PUBLIC Kokkos::kokkos draco::draco meshoptimizer::meshoptimizer)
 target_compile_features(rast_lib PUBLIC cxx_std_17)
 
 # The package needs Kokkos as a package too: a Kokkos built inside this tree

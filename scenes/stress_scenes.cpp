@@ -48,22 +48,25 @@ struct Builder {
   // A grid of cells x cells quads over [x0,x1]x[y0,y1] at depth z: closed (no
   // holes) and watertight, so any hole or double hit is a rasteriser bug.
   // `colour`, when given, colours each vertex from its (u, v) in [0,1]^2.
+  // Rows [row0, row1) of cells only (distributed runs generate their part).
   void grid(int cells, double x0, double y0, double x1, double y1, double z, int32_t mat,
-            float4 (*colour)(double u, double v) = nullptr) {
+            float4 (*colour)(double u, double v) = nullptr, int row0 = 0, int row1 = -1) {
     // 2 x 8192^2 = 134M triangles; more is a typo (n=1e12), not a test scene.
-    if (cells > 8192) throw Error(s.name + ": at most 8192x8192 grid cells (about 134M triangles)");
+    // Generated in parts, the whole may be larger (kMaxPartCells).
+    if (cells > 8192 && row1 < 0) throw Error(s.name + ": at most 8192x8192 grid cells (about 134M triangles)");
+    if (row1 < 0) row1 = cells;
     std::vector<float3> p, n;
     std::vector<float4> c;
     std::vector<uint32_t> idx;
-    for (int j = 0; j <= cells; ++j)
+    for (int j = row0; j <= row1; ++j)
       for (int i = 0; i <= cells; ++i) {
         p.push_back({float(x0 + (x1 - x0) * i / cells), float(y0 + (y1 - y0) * j / cells), float(z)});
         n.push_back({0, 0, 1});
         if (colour) c.push_back(colour(double(i) / cells, double(j) / cells));
       }
-    for (int j = 0; j < cells; ++j)
+    for (int j = row0; j < row1; ++j)
       for (int i = 0; i < cells; ++i) {
-        const uint32_t a = j * (cells + 1) + i, b = a + 1, c = a + cells + 1, d = c + 1;
+        const uint32_t a = (j - row0) * (cells + 1) + i, b = a + 1, c = a + cells + 1, d = c + 1;
         idx.insert(idx.end(), {a, b, d, a, d, c});
       }
     s.draws.push_back(Draw{addPrim(s, p, &n, nullptr, colour ? &c : nullptr, idx, mat), glm::dmat4(1.0)});
@@ -103,23 +106,36 @@ Scene bigtri(const Params& p) {
   return b.s;
 }
 
-Scene tiny(const Params& p) {
+// Generated in parts (distributed runs, one part per rank), builtin:tiny may
+// reach 2 x 30000^2 = 1.8 G triangles: global ids stay below 2^31.
+constexpr int kMaxPartCells = 30000;
+
+float4 tinyColour(double u, double v) {
+  const double x = (u - 0.5) * 16.0 / 9.0, y = v - 0.5;
+  const double angle = std::atan2(y, x) / (2.0 * M_PI) + 0.5, radius = std::sqrt(x * x + y * y);
+  const float4 c = hue(int(angle * 3600.0), 3600);
+  const float ring = float(0.7 + 0.3 * std::cos(radius * 40.0));
+  return float4{c.x * ring, c.y * ring, c.z * ring, 1.0f};
+}
+
+int tinyCells(const Params& p, bool part) {
+  const double n = count(p, "n", 1000000.0, 1, part ? 2.0 * kMaxPartCells * kMaxPartCells : 2.0 * 8192 * 8192);
+  return std::max(1, int(std::sqrt(n / 2.0)));
+}
+
+// Rows [row0, row1) of the grid (row1 < 0: all of it).
+Scene tinyRows(const Params& p, int row0, int row1) {
   // About n sub-pixel to pixel-sized triangles tiling the view (at 1920x1080
   // and n = 1M, two triangles share about two pixels).
   // Vertex colours (a hue wheel with rings) show that the sub-pixel triangles
   // are there: one flat colour would render as an empty grey frame.
   Builder b("tiny");
-  const double n = count(p, "n", 1000000.0, 1, 2.0 * 8192 * 8192);
-  const int cells = std::max(1, int(std::sqrt(n / 2.0)));
-  b.grid(cells, -kHalfW, -kHalfH, kHalfW, kHalfH, 0.0, b.material({1, 1, 1, 1}), [](double u, double v) {
-    const double x = (u - 0.5) * 16.0 / 9.0, y = v - 0.5;
-    const double angle = std::atan2(y, x) / (2.0 * M_PI) + 0.5, radius = std::sqrt(x * x + y * y);
-    const float4 c = hue(int(angle * 3600.0), 3600);
-    const float ring = float(0.7 + 0.3 * std::cos(radius * 40.0));
-    return float4{c.x * ring, c.y * ring, c.z * ring, 1.0f};
-  });
+  const int cells = tinyCells(p, row1 >= 0);
+  b.grid(cells, -kHalfW, -kHalfH, kHalfW, kHalfH, 0.0, b.material({1, 1, 1, 1}), tinyColour, row0, row1);
   return b.s;
 }
+
+Scene tiny(const Params& p) { return tinyRows(p, 0, -1); }
 
 Scene overdraw(const Params& p) {
   // Full-screen layers at distinct depths: every method pays per layer; the
@@ -338,6 +354,22 @@ const std::vector<StressSceneRow>& stressSceneTable() {
 }
 
 }  // namespace
+
+bool makeStressScenePart(const std::string& nameAndParams, uint64_t t0, uint64_t t1, Scene& out, uint64_t& first,
+                         uint64_t& total) {
+  const auto q = nameAndParams.find('?');
+  if (nameAndParams.substr(0, q) != "tiny") return false;
+  const Params p = parseParams(q == std::string::npos ? "" : nameAndParams.substr(q + 1));
+  const uint64_t cells = uint64_t(tinyCells(p, true)), perRow = 2 * cells;
+  total = perRow * cells;
+  t1 = std::min(t1, total);
+  t0 = std::min(t0, t1);
+  const uint64_t row0 = t0 / perRow, row1 = t0 == t1 ? row0 : (t1 + perRow - 1) / perRow;
+  first = row0 * perRow;
+  out = tinyRows(p, int(row0), int(row1));
+  out.name = "builtin:" + nameAndParams;
+  return true;
+}
 
 const std::vector<StressSceneInfo>& stressScenes() {
   static const std::vector<StressSceneInfo> infos = [] {

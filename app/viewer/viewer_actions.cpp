@@ -137,6 +137,34 @@ const std::vector<ViewerAction>& viewerActions() {
          [](const Viewer&) { return std::vector<std::string>{"off", "on"}; },
          [](const Viewer& v) { return v.rs_.post.bloom ? 1 : 0; },
          [](Viewer& v, int i) { v.rs_.post.bloom = i == 1; }},
+        // Animation playback (docs/animation.md): rows for every scene, inert without animations.
+        {"play", "Space", "play / pause the animation", K::Toggle, W::Checkbox, "play animation",
+         [](const Viewer&) { return std::vector<std::string>{"paused", "playing"}; },
+         [](const Viewer& v) { return v.playing_ ? 1 : 0; },
+         [](Viewer& v, int i) {
+           v.playing_ = i == 1 && v.animated_;
+           v.lastTick_ = Clock::now();
+         }},
+        {"loop", "R", "loop the animation on/off", K::Toggle, W::Checkbox, "loop animation",
+         [](const Viewer&) { return std::vector<std::string>{"off", "on"}; },
+         [](const Viewer& v) { return v.loop_ ? 1 : 0; }, [](Viewer& v, int i) { v.loop_ = i == 1; }},
+        {"animation", "A", "next / previous animation (all of them at once first)", K::Cycle, W::Combo, "animation",
+         [](const Viewer& v) {
+           std::vector<std::string> names = {v.animated_ ? "all" : "none"};
+           if (v.animated_)
+             for (size_t k = 0; k < v.posed_.rig->animations.size(); ++k)
+               names.push_back(std::to_string(k) + (v.posed_.rig->animations[k].name.empty() ? "" : " " + v.posed_.rig->animations[k].name));
+           return names;
+         },
+         [](const Viewer& v) { return v.animation_ + 1; },
+         [](Viewer& v, int i) {
+           v.animation_ = i - 1;
+           v.setAnimationTime(std::clamp(v.animTime_, v.animStart(), v.animEnd()));
+         }},
+        {"speed", "S", "animation speed: 1x, 2x, 4x, 0.25x, 0.5x", K::Cycle, W::Combo, "speed",
+         [](const Viewer&) { return std::vector<std::string>{"1x", "2x", "4x", "0.25x", "0.5x"}; },
+         [](const Viewer& v) { return v.speed_ == 1.0 ? 0 : v.speed_ == 2.0 ? 1 : v.speed_ == 4.0 ? 2 : v.speed_ == 0.25 ? 3 : 4; },
+         [](Viewer& v, int i) { v.speed_ = std::vector<double>{1.0, 2.0, 4.0, 0.25, 0.5}[size_t(i)]; }},
         // Taken between frames (takeRequestedShots), never inside the overlay's frame.
         {"screenshot", "F12", "screenshot (rast-viewer-NNN.png + -window.png)", K::Command, W::Button, "screenshot",
          nullptr, nullptr, [](Viewer& v, int) { v.shotRequested_ = true; }},

@@ -93,6 +93,14 @@ class Viewer {
   std::string nextScreenshotName() const;
   void closeWindow();
 
+  // Animation playback (docs/animation.md; viewer_main.cpp): the scene's pose
+  // advanced by the wall clock times the speed while playing, each new pose
+  // sent to the renderer (matrices, joints, morphed vertices) before the frame.
+  void advanceAnimation();
+  void setAnimationTime(double t);
+  double animStart() const;
+  double animEnd() const;
+
   // Overlay and statistics (viewer_overlay.cpp).
   void drawOverlay();
   void drawActionWidgets(Widget w);  // the table's rows shown as w, in table order
@@ -135,6 +143,13 @@ class Viewer {
   FrameSeries frameMs_, renderMsAll_, uploadMsAll_, copyOutMsAll_, drawMsAll_, overlayMsAll_, swapMsAll_;
   Clock::time_point lastFrameEnd_{};
   int framesShown_ = 0;
+
+  // Animation: a copy of the scene to pose (only when it has animations).
+  Scene posed_;
+  bool animated_ = false, playing_ = false, loop_ = true;
+  int animation_ = kAllAnimations;
+  double animTime_ = 0.0, speed_ = 1.0;
+  Clock::time_point lastTick_{};
 };
 
 }  // namespace rast

@@ -23,6 +23,7 @@
 #include <imgui_impl_opengl3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -52,6 +53,14 @@ Viewer::Viewer(const ViewerOptions& o, const Scene& scene, const Camera& cam, co
   scene.worldBounds(boundsLo_, boundsHi_);
   prim_ = rs.polygon == PolygonMode::Line ? PrimMode::Wireframe : rs.polygon == PolygonMode::Point ? PrimMode::Points
                                                                                                   : PrimMode::Triangles;
+  if (scene.rig && !scene.rig->animations.empty()) {
+    posed_ = scene;
+    animated_ = true;
+    animTime_ = scene.poseTime;
+    if (scene.poseAnimation >= 0) animation_ = scene.poseAnimation;
+    playing_ = !o.scene.time;  // --time shows that pose, paused
+    lastTick_ = Clock::now();
+  }
   std::istringstream dd(deviceDescription());
   for (std::string l; std::getline(dd, l);) {
     if (l.rfind("backend: ", 0) == 0) backend_ = l.substr(9);
@@ -174,8 +183,46 @@ void Viewer::present(const std::string& windowShot) {
   swapMs_ = msSince(t);
 }
 
+double Viewer::animStart() const {
+  if (!animated_) return 0.0;
+  const auto& list = posed_.rig->animations;
+  if (animation_ >= 0) return list[size_t(animation_)].start;
+  double t = list[0].start;
+  for (const Animation& a : list) t = std::min(t, a.start);
+  return t;
+}
+
+double Viewer::animEnd() const {
+  if (!animated_) return 0.0;
+  const auto& list = posed_.rig->animations;
+  if (animation_ >= 0) return list[size_t(animation_)].end;
+  double t = list[0].end;
+  for (const Animation& a : list) t = std::max(t, a.end);
+  return t;
+}
+
+void Viewer::setAnimationTime(double t) {
+  if (!animated_) return;
+  animTime_ = t;
+  poseScene(posed_, PoseRequest{t, animation_}, /*skinOnHost=*/false);  // the vertex stage skins
+  renderer_.updatePose(posed_);
+  dirty_ = true;
+}
+
+void Viewer::advanceAnimation() {
+  const Clock::time_point now = Clock::now();
+  const double dt = std::chrono::duration<double>(now - lastTick_).count();
+  lastTick_ = now;
+  if (!animated_ || !playing_) return;
+  const double a = animStart(), b = animEnd();
+  double t = animTime_ + dt * speed_;
+  if (t > b) t = loop_ && b > a ? a + std::fmod(t - a, b - a) : b;
+  setAnimationTime(t);
+}
+
 void Viewer::frame() {
   // Render every frame, changed or not: the overlay's times are the pipeline's.
+  advanceAnimation();
   renderPipeline();
   present();
   recordFrameTimes();
@@ -252,7 +299,8 @@ int run(int argc, char** argv) {
 
   // Everything that can fail on bad input happens before the window opens.
   RenderSettings rs = o.scene.settings();
-  const Scene scene = loadSceneArg(o.scene.scene, o.scene.loadOptions());
+  Scene scene = loadSceneArg(o.scene.scene, o.scene.loadOptions());
+  o.scene.pose(scene);  // --time/--animation: the pose to start from
   const Camera cam = o.scene.camera(scene);
   o.scene.applySceneLook(scene, rs, /*still=*/false);
   std::vector<ScriptEvent> script;

@@ -84,6 +84,15 @@ void Viewer::drawOverlay() {
     drawPostControls();
     ImGui::PopItemWidth();
     drawActionWidgets(Widget::Button);
+    if (animated_) {  // the timeline scrubber: dragging it pauses the animation there
+      float t = float(animTime_);
+      ImGui::PushItemWidth(220);
+      if (ImGui::SliderFloat("time (s)", &t, float(animStart()), float(animEnd()), "%.3f")) {
+        playing_ = false;
+        setAnimationTime(t);
+      }
+      ImGui::PopItemWidth();
+    }
     if (!notice_.empty() && msSince(noticeAt_) < 4000.0) {
       ImGui::Separator();
       ImGui::TextWrapped("%s", notice_.c_str());
@@ -220,6 +229,7 @@ std::string Viewer::stateLine() const {
                 rs_.width, rs_.height, toString(rs_.cull), toString(rs_.shading), toString(rs_.filter),
                 toString(rs_.raster), toString(rs_.polygon), toString(renderer_.resolveMethod(rs_)), toString(prim_),
                 rs_.post.bloom ? "on" : "off");
+  if (animated_) return std::string(b) + " time=" + std::to_string(animTime_) + (playing_ ? " playing" : " paused");
   return b;
 }
 

@@ -12,11 +12,14 @@
 
 #include <tiny_gltf.h>
 
+#include <glm/glm.hpp>
+
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
 #include <functional>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -40,6 +43,8 @@ struct LoadContext {
   std::string fatal;
   // The resolved path of every external file read (Scene::sourceFiles).
   std::vector<std::string> filesRead;
+  // Images left undecoded because they are KTX2 (image_decode.cpp, compression.cpp).
+  std::vector<int> ktx2Images;
 };
 
 // Makes a message printable on one line: control characters become spaces.
@@ -129,5 +134,47 @@ Material readMaterial(const tinygltf::Model& m, int mi, const std::function<int3
 
 // KHR_lights_punctual light `li`, placed by a node at `world`.
 PunctualLight readLight(const tinygltf::Model& m, int li, const std::string& nodeName, const glm::dmat4& world);
+
+// ---------------------------------------------------------------- animation_load.cpp
+
+// What the model walk (model_walk.cpp) hands to the rig: the node that placed
+// each draw, the scene primitives of each mesh, and for each primitive drawn
+// flat-shaded (no NORMAL: a vertex per triangle corner) its source vertex per
+// corner.
+struct WalkRecord {
+  std::vector<int32_t> drawNode;
+  std::vector<glm::dmat4> drawInstance;  // per draw: its instance's matrix under its node (EXT_mesh_gpu_instancing)
+  std::map<int, std::vector<uint32_t>> meshPrims;
+  std::map<uint32_t, std::vector<uint32_t>> flatCorners;
+};
+
+// Reads the node hierarchy, skins, animations and morph targets into
+// s.rig (host/scene/animation.h; left null when nothing moves) and poses the
+// scene at rest: skins and default morph weights applied.
+void buildRig(const tinygltf::Model& m, LoadContext& ctx, Scene& s, const WalkRecord& w);
+
+// ---------------------------------------------------------------- compression.cpp
+
+// Whether rast decodes this compression extension (a file may require it).
+bool compressionSupported(const std::string& name);
+// What tinygltf refuses in compressed files, stubbed in a copy of the file
+// (`out`: JSON text, or a GLB with the new JSON chunk): a buffer without a uri
+// (meshopt's fallback buffers, which hold no data) becomes a 1-byte data:
+// buffer; a Draco primitive's indices accessor without a bufferView reads the
+// Draco stream's view until it is decoded. False: no change.
+bool stubForTinygltf(nlohmann::json& doc, bool binary, const std::vector<unsigned char>& file, const GlbLayout& glb,
+                     std::vector<unsigned char>& out);
+// Decodes EXT_meshopt_compression bufferViews and KHR_draco_mesh_compression
+// primitives into new buffers the model then reads, within the budget; refuses
+// a KHR_texture_basisu texture without a fallback image.
+void decodeCompressed(tinygltf::Model& m, LoadContext& ctx);
+
+// ---------------------------------------------------------------- instancing.cpp
+
+// EXT_mesh_gpu_instancing: the node's instances, each as the matrix
+// T(TRANSLATION) R(ROTATION) S(SCALE) under the node; empty when the node has
+// none. Every accessor is checked (type, count, finite values) and the draws
+// they will make charged to the budget first.
+std::vector<glm::dmat4> instanceMatrices(const tinygltf::Model& m, LoadContext& ctx, int nodeIndex, size_t primsPerInstance);
 
 }  // namespace rast::gltf_detail

@@ -79,6 +79,13 @@ bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err,
   const size_t n = size > 0 ? size_t(size) : 0;
   const bool png = startsWith(bytes, n, "\x89PNG\r\n\x1a\n", 8), jpeg = n >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
   if (n == 0) return refuse("no image data (0 bytes)");
+  // KTX2 (KHR_texture_basisu) has no decoder in Debian: left undecoded, so that
+  // a texture naming it only in the extension falls back to its PNG/JPEG
+  // source; a texture whose source it is is refused (compression.cpp).
+  if (startsWith(bytes, n, "\xABKTX 20\xBB\r\n\x1A\n", 12)) {
+    ctx.ktx2Images.push_back(index);
+    return true;
+  }
   if (!png && !jpeg) {
     const char* other = otherFormat(bytes, n);
     return refuse(other ? std::string("is ") + other + ", not PNG or JPEG, the image formats glTF allows"

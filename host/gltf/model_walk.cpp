@@ -66,6 +66,7 @@ class Loader {
     for (int r : roots) traverse(r);
     gatherFacts();
     if (s_.draws.empty()) throw Error("the scene has no triangles, lines or points to draw");
+    buildRig(m_, ctx_, s_, walk_);  // animation_load.cpp
   }
 
  private:
@@ -106,7 +107,14 @@ class Loader {
       }
       if (n.mesh >= 0) {
         if (size_t(n.mesh) >= m_.meshes.size()) throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
-        for (uint32_t p : meshPrims(n.mesh)) s_.draws.push_back(Draw{p, world});
+        const std::vector<uint32_t>& prims = meshPrims(n.mesh);
+        const std::vector<glm::dmat4> inst = instanceMatrices(m_, ctx_, ni, prims.size());  // instancing.cpp
+        for (size_t i = 0; i < std::max<size_t>(inst.size(), 1); ++i)
+          for (uint32_t p : prims) {
+            s_.draws.push_back(Draw{p, inst.empty() ? world : world * inst[i]});
+            walk_.drawNode.push_back(ni);
+            walk_.drawInstance.push_back(inst.empty() ? glm::dmat4(1.0) : inst[i]);
+          }
       } else if (n.mesh < -1) {
         throw Error("mesh index " + std::to_string(n.mesh) + " out of range");
       }
@@ -194,9 +202,9 @@ class Loader {
 
   // Loads the primitives of a mesh once, however many nodes use it.
   const std::vector<uint32_t>& meshPrims(int mi) {
-    auto it = meshCache_.find(mi);
-    if (it != meshCache_.end()) return it->second;
-    std::vector<uint32_t>& out = meshCache_[mi];
+    auto it = walk_.meshPrims.find(mi);
+    if (it != walk_.meshPrims.end()) return it->second;
+    std::vector<uint32_t>& out = walk_.meshPrims[mi];
     const tinygltf::Mesh& mesh = m_.meshes[mi];
     for (const tinygltf::Primitive& p : mesh.primitives) {
       const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
@@ -327,8 +335,10 @@ class Loader {
         idx.push_back(seq[0]);
       }
     }
-    return addPrim(s_, pos, nA >= 0 ? &nrm : nullptr, texCoordSet >= 0 ? &uv : nullptr, cA >= 0 ? &col : nullptr, idx,
-                   matIndex);
+    const uint32_t added = addPrim(s_, pos, nA >= 0 ? &nrm : nullptr, texCoordSet >= 0 ? &uv : nullptr,
+                                   cA >= 0 ? &col : nullptr, idx, matIndex);
+    if (nA < 0 && (attr("JOINTS_0") >= 0 || !p.targets.empty())) walk_.flatCorners[added] = idx;  // a vertex per corner
+    return added;
   }
 
   // What the primitive will hold in the scene (positions, normals, texture
@@ -469,7 +479,7 @@ class Loader {
   LoadContext& ctx_;
   AccessorReader acc_;
   std::vector<char> state_;  // per node: 0 not seen, 1 on the current path, 2 done
-  std::map<int, std::vector<uint32_t>> meshCache_;
+  WalkRecord walk_;  // draws' nodes, meshes' primitives (gltf_internal.h), for the rig
   std::map<int, LoadedMaterial> matCache_;
   std::map<std::pair<int, int>, int32_t> texCache_;  // (image, sampler) -> scene texture
 };
@@ -485,8 +495,19 @@ Scene loadChecked(const std::string& path, const LoadOptions& options) {
   GlbLayout glb;
   if (binary) glb = checkGlb(bytes);
   const char* json = reinterpret_cast<const char*>(bytes.data()) + (binary ? glb.jsonOffset : 0);
-  const size_t jsonLength = binary ? glb.jsonLength : bytes.size();
-  checkDocument(parseJson(json, jsonLength, ctx.ledger), ctx);
+  size_t jsonLength = binary ? glb.jsonLength : bytes.size();
+  nlohmann::json doc = parseJson(json, jsonLength, ctx.ledger);
+  checkDocument(doc, ctx);
+  std::vector<unsigned char> stubbed;  // what tinygltf refuses, stubbed (compression.cpp)
+  if (stubForTinygltf(doc, binary, bytes, glb, stubbed)) {
+    if (binary) {
+      glb.length = stubbed.size();
+    } else {
+      json = reinterpret_cast<const char*>(stubbed.data());
+      jsonLength = stubbed.size();
+    }
+  }
+  doc = nlohmann::json();
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(loadImageChecked, &ctx);
@@ -496,7 +517,8 @@ Scene loadChecked(const std::string& path, const LoadOptions& options) {
   bool ok = false;
   const std::string& baseDir = ctx.resolver.baseDir();
   try {
-    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(glb.length), baseDir)
+    const unsigned char* glbBytes = stubbed.empty() ? bytes.data() : stubbed.data();
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, glbBytes, unsigned(glb.length), baseDir)
                 : loader.LoadASCIIFromString(&model, &err, &warn, json, unsigned(jsonLength), baseDir);
   } catch (const std::exception& e) {
     // nlohmann::json throws on some type mismatches inside tinygltf.
@@ -514,6 +536,7 @@ Scene loadChecked(const std::string& path, const LoadOptions& options) {
   s.name = path;
   s.sourceFiles.push_back(path);
   s.sourceFiles.insert(s.sourceFiles.end(), ctx.filesRead.begin(), ctx.filesRead.end());
+  decodeCompressed(model, ctx);  // compression.cpp
   Loader(model, s, ctx).run();
   s.validate();
   return s;

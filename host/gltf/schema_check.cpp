@@ -308,7 +308,8 @@ class SchemaChecker {
 // app/scene_info.cpp reports the same list.
 bool extensionSupported(const std::string& name) {
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_lights_punctual" ||
-         name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength";
+         name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength" || name == "EXT_mesh_gpu_instancing" ||
+         compressionSupported(name);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "base/vec.h"
 
 #include <glm/glm.hpp>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,8 @@ namespace rast {
 
 // glTF sampler wrap modes (the GL enums, as stored in glTF files).
 enum Wrap : int32_t { WrapRepeat = 10497, WrapClamp = 33071, WrapMirror = 33648 };
+
+struct SceneRig;  // host/scene/animation.h
 
 struct Texture {
   int32_t width = 0, height = 0;
@@ -158,6 +161,14 @@ struct Scene {
   // Every file the scene was read from: the scene file and, resolved, each
   // external buffer and image. Outputs must not be any of them (app/).
   std::vector<std::string> sourceFiles;
+  // Node hierarchy, animations, skins and morph targets (host/scene/animation.h):
+  // null for a scene that does not move.
+  std::shared_ptr<const SceneRig> rig;
+  // The pose poseScene() last wrote: its time, its animation (-2: none, the
+  // rest pose; -1: all) and whether skinned vertices were skinned on the host.
+  double poseTime = 0.0;
+  int poseAnimation = -2;
+  bool skinnedOnHost = true;
 
   uint32_t triangleCount() const;  // drawn triangles, each instance counted
   uint64_t lineCount() const;      // drawn line segments

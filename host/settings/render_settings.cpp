@@ -123,13 +123,13 @@ void put(std::string& s, T v) {
 // frames with different values of it would share a recording. The sizes below
 // (LP64) make the compiler point here when either struct changes.
 static_assert(sizeof(void*) != 8 || sizeof(PostSettings) == 40, "PostSettings changed: update settingsKey()");
-static_assert(sizeof(void*) != 8 || sizeof(RenderSettings) == 168, "RenderSettings changed: update settingsKey()");
+static_assert(sizeof(void*) != 8 || sizeof(RenderSettings) == 176, "RenderSettings changed: update settingsKey()");
 
 std::string settingsKey(const RenderSettings& rs) {
   std::string s;
   s.reserve(512);
   for (long long v : {(long long)rs.width, (long long)rs.height, (long long)rs.cull, (long long)rs.shading,
-                      (long long)rs.filter, (long long)rs.raster, (long long)rs.wantDepth, (long long)rs.wantPrimId,
+                      (long long)rs.filter, (long long)rs.anisotropy, (long long)rs.raster, (long long)rs.wantDepth, (long long)rs.wantPrimId,
                       (long long)rs.wantNormals, (long long)rs.msaa, (long long)rs.ssaa, (long long)rs.reference,
                       (long long)rs.referenceGrid, (long long)rs.referenceSeed, (long long)rs.perspectiveCorrect,
                       (long long)rs.polygon, (long long)rs.wireframe, (long long)rs.transparency,

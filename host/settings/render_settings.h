@@ -51,6 +51,9 @@ struct RenderSettings {
   CullMode cull = CullMode::None;
   ShadingMode shading = ShadingMode::Lambert;
   TexFilter filter = TexFilter::Bilinear;
+  // Anisotropic filtering's most taps (1..16) where a glTF sampler filters
+  // linearly between mipmap levels, under --filter auto and the glTF shading.
+  int anisotropy = 16;
   RasterMethod raster = RasterMethod::Auto;
   // Empty: one headlight at the eye (per fragment, towards the eye), as glref shades.
   std::vector<DirectionalLight> lights;

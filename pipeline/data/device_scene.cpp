@@ -1,6 +1,7 @@
 #include "pipeline/data/device_scene.h"
 
 #include "base/color.h"
+#include "host/scene/animation.h"
 
 #include <glm/gtc/matrix_inverse.hpp>
 
@@ -21,13 +22,94 @@ DView<T> uploadVec(const char* label, const std::vector<T>& v) {
   return d;
 }
 
+// A draw as the pipeline reads it: its ranges and its matrices.
+DrawGPU drawGpu(const Scene& s, const Draw& dr, const MeshPrim& p, uint32_t vert, uint32_t tri) {
+  DrawGPU g{};
+  g.srcVertex = p.firstVertex;
+  g.vertexCount = p.vertexCount;
+  g.srcTri = p.firstTri;
+  g.triCount = p.triCount;
+  g.dstVertex = vert;
+  g.dstTri = tri;
+  g.material = p.material;
+  g.mirrored = glm::determinant(dr.model) < 0.0 ? 1 : 0;
+  g.singleSided = p.material >= 0 && !s.materials[p.material].doubleSided ? 1 : 0;
+  for (int k = 0; k < 16; ++k) g.model.m[k] = (&dr.model[0][0])[k];
+  for (int k = 0; k < 16; ++k) g.modelF.m[k] = float(g.model.m[k]);
+  const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(dr.model));
+  for (int k = 0; k < 9; ++k) g.normalMatrix.m[k] = float((&nm[0][0])[k]);
+  g.skinJoint = -1;
+  return g;
+}
+
+void paletteToFloat(const SkinPalette& pal, std::vector<mat4f>& j, std::vector<mat3f>& n) {
+  j.resize(pal.joints.size());
+  n.resize(pal.normals.size());
+  for (size_t i = 0; i < j.size(); ++i) {
+    for (int k = 0; k < 16; ++k) j[i].m[k] = float((&pal.joints[i][0][0])[k]);
+    for (int k = 0; k < 9; ++k) n[i].m[k] = float((&pal.normals[i][0][0])[k]);
+  }
+}
+
+template <class T>
+void copyInto(const DView<T>& d, const std::vector<T>& v) {
+  if (v.empty()) return;
+  Kokkos::View<const T*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(v.data(), v.size());
+  Kokkos::deep_copy(Kokkos::subview(d, std::make_pair(size_t(0), v.size())), h);
+}
+
 }  // namespace
+
+void DeviceScene::updatePose(const Scene& s) {
+  if (s.draws.size() != numDraws || s.positions.size() != positions.extent(0))
+    throw Error("internal: a pose must keep the scene's draws and vertices");
+  // Only scenes with morph targets send vertices again; skinned draws' stay
+  // in their bind pose on the device.
+  bool morphs = false;
+  if (s.rig)
+    for (const DeformedDraw& dd : s.rig->deformed) morphs |= dd.targets > 0;
+  std::vector<float3> pos, nrm;
+  if (morphs && hasSkins && s.skinnedOnHost) {
+    pos = s.positions;
+    nrm = s.normals;
+  }
+  const SkinPalette pal = skinPalette(s, pos.empty() ? nullptr : &pos, pos.empty() ? nullptr : &nrm);
+  std::vector<DrawGPU> host = uploadedDraws_;
+  for (size_t k = 0; k < s.draws.size(); ++k) {
+    const DrawGPU& was = uploadedDraws_[k];
+    host[k] = drawGpu(s, s.draws[k], s.prims[s.draws[k].prim], was.dstVertex, was.dstTri);
+    host[k].skinJoint = was.skinJoint;
+    host[k].skinVertex = was.skinVertex;
+    host[k].skinSets = was.skinSets;
+    if (hostMvps()) hostModels[k] = host[k].model;
+  }
+  copyInto(draws, host);
+  if (hasSkins) {
+    std::vector<mat4f> j;
+    std::vector<mat3f> n;
+    paletteToFloat(pal, j, n);
+    copyInto(joints, j);
+    copyInto(jointNormals, n);
+  }
+  if (morphs) {
+    copyInto(positions, pos.empty() ? s.positions : pos);
+    copyInto(normals, nrm.empty() ? s.normals : nrm);
+  }
+}
 
 DeviceScene DeviceScene::upload(const Scene& s) {
   s.validate();
   DeviceScene d;
-  d.positions = uploadVec("scene.positions", s.positions);
-  d.normals = uploadVec("scene.normals", s.normals);
+  // Skinned draws travel in their bind pose and are skinned by the vertex stage.
+  d.hasSkins = rast::hasSkins(s);
+  std::vector<float3> bindPos, bindNrm;
+  if (d.hasSkins && s.skinnedOnHost) {
+    bindPos = s.positions;
+    bindNrm = s.normals;
+  }
+  const SkinPalette pal = skinPalette(s, bindPos.empty() ? nullptr : &bindPos, bindPos.empty() ? nullptr : &bindNrm);
+  d.positions = uploadVec("scene.positions", bindPos.empty() ? s.positions : bindPos);
+  d.normals = uploadVec("scene.normals", bindNrm.empty() ? s.normals : bindNrm);
   d.indices = uploadVec("scene.indices", s.indices);
 
   // Only the attribute streams that some drawn primitive uses travel.
@@ -41,23 +123,22 @@ DeviceScene DeviceScene::upload(const Scene& s) {
 
   std::vector<DrawGPU> draws;
   std::vector<uint32_t> triStart, vertStart;
+  std::vector<uint16_t> skinJ;
+  std::vector<float> skinW;
   uint64_t tri = 0, vert = 0;
   for (const Draw& dr : s.draws) {
     const MeshPrim& p = s.prims[dr.prim];
-    DrawGPU g{};
-    g.srcVertex = p.firstVertex;
-    g.vertexCount = p.vertexCount;
-    g.srcTri = p.firstTri;
-    g.triCount = p.triCount;
-    g.dstVertex = uint32_t(vert);
-    g.dstTri = uint32_t(tri);
-    g.material = p.material;
-    g.mirrored = glm::determinant(dr.model) < 0.0 ? 1 : 0;
-    g.singleSided = p.material >= 0 && !s.materials[p.material].doubleSided ? 1 : 0;
-    for (int k = 0; k < 16; ++k) g.model.m[k] = (&dr.model[0][0])[k];
-    for (int k = 0; k < 16; ++k) g.modelF.m[k] = float(g.model.m[k]);
-    const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(dr.model));
-    for (int k = 0; k < 9; ++k) g.normalMatrix.m[k] = float((&nm[0][0])[k]);
+    DrawGPU g = drawGpu(s, dr, p, uint32_t(vert), uint32_t(tri));
+    const size_t k = draws.size();
+    if (pal.start[k] >= 0) {
+      const DeformedDraw* dd = nullptr;
+      for (const DeformedDraw& x : s.rig->deformed) dd = x.draw == k ? &x : dd;
+      g.skinJoint = pal.start[k];
+      g.skinVertex = uint32_t(skinJ.size());
+      g.skinSets = dd->sets;
+      skinJ.insert(skinJ.end(), dd->joints.begin(), dd->joints.end());
+      skinW.insert(skinW.end(), dd->weights.begin(), dd->weights.end());
+    }
     d.hostModels.push_back(g.model);
     triStart.push_back(g.dstTri);
     vertStart.push_back(g.dstVertex);
@@ -71,6 +152,17 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.numTris = uint32_t(tri);
   d.numVerts = uint32_t(vert);
   d.draws = uploadVec("scene.draws", draws);
+  d.uploadedDraws_ = draws;
+  if (d.hasSkins) {
+    if (skinJ.size() >= 0xffffffffull) throw Error("scene too large: more than 2^32 skin influences");
+    std::vector<mat4f> j;
+    std::vector<mat3f> n;
+    paletteToFloat(pal, j, n);
+    d.skinJoints = uploadVec("scene.skinJoints", skinJ);
+    d.skinWeights = uploadVec("scene.skinWeights", skinW);
+    d.joints = uploadVec("scene.joints", j);
+    d.jointNormals = uploadVec("scene.jointNormals", n);
+  }
   d.drawTriStart = uploadVec("scene.drawTriStart", triStart);
   d.drawVertStart = uploadVec("scene.drawVertStart", vertStart);
   if (drawTables(draws.size())) {
@@ -186,8 +278,9 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
-         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) + viewBytes(srgbEncodePacked) + viewBytes(lines) +
-         viewBytes(points) + viewBytes(alphaDraws);
+         viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) +
+         viewBytes(srgbEncodePacked) + viewBytes(lines) + viewBytes(points) + viewBytes(skinJoints) + viewBytes(skinWeights) +
+         viewBytes(joints) + viewBytes(jointNormals) + viewBytes(alphaDraws);
 }
 
 }  // namespace rast

@@ -33,6 +33,15 @@ struct DeviceScene {
   DView<float> unormToFloat;  // 256-entry table i / 255, for linear textures (normals, metal/rough, occlusion)
   DView<PunctualGPU> lights;  // the file's KHR_lights_punctual lights (empty: none)
   DView<uint32_t> srgbEncodePacked;  // sRGB encoder, one entry per bucket (srgbEncodePacked(), packSrgb8Packed)
+  // Skins (host/scene/animation.h), only when a draw is skinned: per skinned
+  // draw's vertex 4 joints and 4 weights per influence set (DrawGPU::skinVertex),
+  // and the joint palette of the current pose (world * inverse bind, and its
+  // inverse transpose for normals), rewritten by updatePose.
+  DView<uint16_t> skinJoints;
+  DView<float> skinWeights;
+  DView<mat4f> joints;
+  DView<mat3f> jointNormals;
+  bool hasSkins = false;
 
   // Drawn line segments, then drawn points, in scene traversal order
   // (primitive ids after the triangles'; docs/points-lines.md).
@@ -52,6 +61,10 @@ struct DeviceScene {
   bool hasAlphaClasses() const { return hasMask || hasBlend; }
 
   static DeviceScene upload(const Scene& scene);
+  // A new pose of the same scene (host/scene/animation.h: poseScene): the
+  // draws' matrices and, when the scene has skins or morph targets, the
+  // vertices, copied into the buffers the scene already has (no allocation).
+  void updatePose(const Scene& scene);
   void uploadLinesAndPoints(const Scene& scene);  // core/device_lines.cpp
   void uploadAlphaDraws(const Scene& scene);      // device_alpha.cpp
   // (Re)uploads the textures, with full mipmap pyramids when asked (built on
@@ -60,6 +73,7 @@ struct DeviceScene {
   void uploadTextures(const std::vector<Texture>& textures, bool mipmaps);
   bool hasMipmaps = false;
   size_t bytes() const;
+  std::vector<DrawGPU> uploadedDraws_;  // the draws as uploaded: updatePose keeps their ranges and skins
 };
 
 // Largest i with starts(i) <= key; starts is ascending with starts(0) == 0.

@@ -22,6 +22,11 @@ struct DrawGPU {
   mat4d model;
   mat3f normalMatrix;  // transpose(inverse(mat3(model)))
   mat4f modelF;        // model rounded to float once, for world positions (the vertex stage)
+  // Skinning in the vertex stage (docs/animation.md): the draw's first joint
+  // in DeviceScene::joints (-1: not skinned), its first entry in
+  // DeviceScene::skinJoints/skinWeights and its influence sets (4 joints each).
+  int32_t skinJoint;
+  uint32_t skinVertex, skinSets;
 };
 
 // A glTF metallic-roughness material (host/scene/scene.h Material). The

@@ -72,6 +72,7 @@ ShadeParams shadeParamsFor(const RenderSettings& rs, const FrameBuffers& f, cons
   ShadeParams sp{};
   sp.mode = rs.shading;
   sp.filter = rs.filter;
+  sp.anisotropy = rs.anisotropy;
   sp.frame = f.uniforms;
   sp.ambient = rs.ambient;
   sp.specular = rs.specular;
@@ -139,7 +140,7 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // On the CPU the binned raster can shade each tile as it finishes: the
   // shade stage's time is then part of the raster's.
   const bool linesOrPoints = p.lines.lineItems() + p.lines.pointItems() > 0;
-  if (p.method == RasterMethod::Binned && p.fill && !p.blend.mask && !p.blend.blend &&
+  if (p.method == RasterMethod::Binned && p.fill && !in.keepKeys && !p.blend.mask && !p.blend.blend &&
       fusedBinnedShadeUsable(f, p.shadeParams, linesOrPoints))
     p.shade = ShadePath::FusedBinned;
   else if (spanShadeUsable(f, p.shadeParams))

@@ -74,6 +74,7 @@ struct PlanInputs {
   bool statsDue = false;       // auto: this frame runs the statistics pass
   bool supersampling = false;  // a pass of a supersampled frame: film, no post chain
   bool blendFallback = false;  // the exact fragment store would exceed the memory budget: kbuffer
+  bool keepKeys = false;       // a split frame (renderer.h): keys are exchanged before shading, never fused
 };
 
 // The transparency method a frame uses (never Auto): `auto` takes exact (the

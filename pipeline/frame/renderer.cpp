@@ -120,6 +120,7 @@ void Renderer::checkFrameBudget(const RenderSettings& rs) const {
   uint64_t frame = mulSat(n, perPixel);
   // Bloom: two half-resolution float films.
   if (rs.post.bloom) frame = addSat(frame, mulSat(uint64_t(rs.width / 2 + 1) * uint64_t(rs.height / 2 + 1), 2 * sizeof(float4)));
+  if (split_) frame = addSat(frame, split_->frameBytes(rs.width, rs.height, msaa));  // the exchange's buffers
   // Held besides the frame: the scene (here and in the caller's host Scene),
   // the raster triangles and per-vertex buffers; and, when the frame is done,
   // the host copies its outputs are written from (one output at a time, the
@@ -180,7 +181,17 @@ void Renderer::prepare(const RenderSettings& rs) {
 }
 
 void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
-  prepare(rs);
+  if (split_) {  // every part prepares, or none renders
+    std::string error;
+    try {
+      prepare(rs);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    split_->agree(error);
+  } else {
+    prepare(rs);
+  }
   FrameUniforms u{};
   const glm::dmat4 vp = cam.viewProjection(rs.width, rs.height);
   for (int k = 0; k < 16; ++k) u.viewProj.m[k] = glm::value_ptr(vp)[k];
@@ -210,10 +221,18 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   in.statsDue = statsDue;
   in.supersampling = supersampling_;
   in.blendFallback = blendFallback_;
+  in.keepKeys = split_ != nullptr;
   plan_ = planFrame(rs, in);
   uint64_t visClear = frame_.visClear ? 1 : 0;
 
   if (timer) timer->start();
+  if (split_) {  // launched directly: the split's exchange waits on the host
+    Kokkos::View<const mat4f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(upload_.data(), upload_.size());
+    Kokkos::deep_copy(Kokkos::subview(frame_.uploaded, std::make_pair(size_t(0), upload_.size())), h);
+    launchFrame(plan_, timer);
+    if (plan_.film && !supersampling_ && split_->holdsFrame()) runPost(cam, rs, timer);
+    return;
+  }
   // The camera reaches the kernels through device memory, copied first; the
   // launches after it are the same from frame to frame for the same key.
   graphs_->run(plan_.key, timer, visClear, {upload_.data(), frame_.uploaded.data(), upload_.size() * sizeof(mat4f), u.frame}, [&] {
@@ -272,6 +291,7 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   }
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("raster");
+  if (split_) split_->afterRaster(scene_, frame_, plan, lights_, timer);  // marks "composite"
   // BLEND fragments in front of the opaque depth, before shading clears it.
   if (plan.blend.blend) {
     Kokkos::Profiling::pushRegion("rast::blend");
@@ -288,11 +308,12 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   }
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("shade");
+  if (split_) split_->afterShade(scene_, frame_, plan, lights_, timer);  // marks "merge"
   if (plan.blend.blend) {
     Kokkos::Profiling::pushRegion("rast::blend");
     blendResolve(scene_, frame_, plan.shadeParams, lights_, plan.blend);
     Kokkos::Profiling::popRegion();
-    if (timer) timer->mark("composite");
+    if (timer) timer->mark("blend_resolve");
   }
 }
 
@@ -379,7 +400,20 @@ FrameStats Renderer::render(const Camera& cam, const RenderSettings& rs) {
   FrameStats st;
   for (int attempt = 1;; ++attempt) {
     enqueue(cam, rs);
-    if (lastFrameFit(&st)) {
+    bool fit = false;
+    if (split_) {  // every part grows its buffers and renders again, or none
+      std::string error;
+      try {
+        fit = lastFrameFit(&st);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      split_->agree(error);
+      fit = split_->all(fit);  // one part's buffers overflowed: every part renders again
+    } else {
+      fit = lastFrameFit(&st);
+    }
+    if (fit) {
       st.attempts = attempt;
       return st;
     }

@@ -7,6 +7,7 @@
 #include "pipeline/data/device_scene.h"
 #include "pipeline/data/frame_buffers.h"
 #include "pipeline/frame/frame_plan.h"
+#include "pipeline/shade/shade.h"
 #include "host/settings/render_settings.h"
 
 
@@ -39,12 +40,40 @@ struct FrameStats {
   uint64_t blendFragments = 0, blendMaxDepth = 0;
 };
 
+// A frame split by geometry (sort-last, pipeline/distributed/): several
+// renderers each draw a part of the scene, and between their raster and shade
+// stages exchange visibility keys, whose minimum is the whole scene's; after
+// shading they merge what each shaded. The renderer calls it at those two
+// points, and before and after a frame's fallible host steps so that every
+// part fails together. Split frames are launched directly (never recorded:
+// the exchange waits on the host) and never fuse shading into the raster.
+class FrameSplit {
+ public:
+  virtual ~FrameSplit() = default;
+  // Every part passes "" or its error; throws one Error on every part if any failed.
+  virtual void agree(const std::string& error) = 0;
+  // True on every part when `ok` is true on all.
+  virtual bool all(bool ok) = 0;
+  virtual void afterRaster(const DeviceScene& s, FrameBuffers& f, const FramePlan& plan, const DView<LightGPU>& lights,
+                           StageTimer* timer) = 0;
+  virtual void afterShade(const DeviceScene& s, FrameBuffers& f, const FramePlan& plan, const DView<LightGPU>& lights,
+                          StageTimer* timer) = 0;
+  // Whether this part holds the merged frame (and runs the post chain on it).
+  virtual bool holdsFrame() const = 0;
+  // Bytes its own buffers take for a frame of this size (charged with the frame's).
+  virtual uint64_t frameBytes(int width, int height, int samples) const = 0;
+};
+
 class Renderer {
  public:
   // memoryBudget: bytes the renderer may hold (scene on the device and frame
   // buffers), checked before each allocation; 0: defaultMemoryBudget().
   explicit Renderer(const Scene& scene, uint64_t memoryBudget = 0);
   ~Renderer();
+
+  // Takes a new pose of the scene it was made with (animation frames):
+  // matrices and moved vertices into the buffers it holds.
+  void updatePose(const Scene& scene) { scene_.updatePose(scene); }
 
   // Renders one frame and waits for it. If the frame needed larger buffers
   // than it had, they grow and the frame is rendered again (never capped).
@@ -90,6 +119,10 @@ class Renderer {
   RasterMethod resolveMethod(const RenderSettings& rs) const;
   size_t deviceBytes() const { return scene_.bytes() + frame_.bytes(); }
 
+  // Splits every later frame by geometry (null: whole frames, as by default).
+  // The split outlives the renderer's frames.
+  void setSplit(FrameSplit* split) { split_ = split; }
+
   // Called after each pass of a supersampled frame with (passes done, total):
   // lets a command line show progress on long reference renders. Empty: silent.
   std::function<void(int, int)> onPass;
@@ -122,6 +155,7 @@ class Renderer {
   std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
 
   AutoStats autoStats_;  // what `auto` decides from (frame_plan.h)
+  FrameSplit* split_ = nullptr;
 };
 
 }  // namespace rast

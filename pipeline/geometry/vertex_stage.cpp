@@ -1,7 +1,9 @@
 // Vertex stage: per-draw model-view-projection matrices, then every drawn vertex
 // to clip space (and to world space when the shading needs positions/normals).
 // Each vertex is also snapped to window space here, once, rather than once per
-// triangle that uses it (about six in a closed mesh) in the setup.
+// triangle that uses it (about six in a closed mesh) in the setup. Skinned
+// draws (docs/animation.md) blend their joints' matrices first, in kernels
+// instantiated only for scenes that have skins.
 #include "backends/cpu_clones.h"
 #include "pipeline/rules/raster_rules.h"
 #include "pipeline/geometry/geometry.h"
@@ -21,7 +23,34 @@ struct DrawMatrices {
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t d) const { mvp(d) = drawMvp(frame(0).viewProj, draws(d).model); }
 };
 
-template <bool kWorld>
+// Linear blend skinning of one vertex (glTF 2.0, 3.7.3): its joints'
+// matrices and normal matrices blended by its weights, Σ w · J, in a fixed
+// order without contraction, then the position and normal through the
+// blend, so every backend gives the same bits. Weights of 0 are skipped
+// (their joint may be any index).
+KOKKOS_INLINE_FUNCTION void skinVertex(const DrawGPU& dr, uint32_t local, const uint16_t* sj, const float* sw, const mat4f* joints,
+                                       const mat3f* normals, float3& p, float3& n) {
+  const uint32_t k0 = dr.skinVertex + local * 4 * dr.skinSets;
+  mat4f m;
+  mat3f nm;
+  for (int c = 0; c < 16; ++c) m.m[c] = 0.0f;
+  for (int c = 0; c < 9; ++c) nm.m[c] = 0.0f;
+  for (uint32_t k = 0; k < 4 * dr.skinSets; ++k) {
+    const float w = sw[k0 + k];
+    if (w == 0.0f) continue;
+    const uint32_t j = uint32_t(dr.skinJoint) + sj[k0 + k];
+    const mat4f& J = joints[j];
+    const mat3f& N = normals[j];
+    for (int c = 0; c < 4; ++c)  // the three rows mulPoint reads, column by column
+      for (int r = 0; r < 3; ++r) m.m[c * 4 + r] = m.m[c * 4 + r] + w * J.m[c * 4 + r];
+    for (int c = 0; c < 9; ++c) nm.m[c] = nm.m[c] + w * N.m[c];
+  }
+  m.m[15] = 1.0f;
+  p = mulPoint(m, p);
+  n = mul(nm, n);
+}
+
+template <bool kWorld, bool kSkin = false>
 struct TransformVertices {
   DView<DrawGPU> draws;
   DView<uint32_t> drawVertStart;
@@ -36,21 +65,34 @@ struct TransformVertices {
   float gx, gy;
   DView<FrameUniforms> frame;
   uint32_t* uploadSeen;  // FrameBuffers::uploadSeen (GPUs)
+  // Skins (kSkin only: scenes without skins do not read them).
+  DView<uint16_t> skinJoints;
+  DView<float> skinWeights;
+  DView<mat4f> joints;
+  DView<mat3f> jointNormals;
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t v) const {
     // The upload this frame read is out of the staging buffer (the copy came
     // before this kernel): the host may refill it (backends/backend_cuda.cpp).
     if (v == 0 && uploadSeen) *uploadSeen = frame(0).frame;
-    const uint32_t d = drawOf(vertDraw, drawVertStart, numDraws, v);
+    one(v, drawOf(vertDraw, drawVertStart, numDraws, v));
+  }
+
+  // Drawn vertex v of draw d.
+  KOKKOS_INLINE_FUNCTION void one(const uint32_t v, const uint32_t d) const {
     const DrawGPU& dr = draws(d);
     const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
-    const float3 p = positions(src);
+    float3 p = positions(src);
+    float3 n{0.0f, 0.0f, 0.0f};
+    if (kWorld || kSkin) n = normals(src);
+    if (kSkin && dr.skinJoint >= 0)  // in the world: the draw's model is the identity
+      skinVertex(dr, v - dr.dstVertex, skinJoints.data(), skinWeights.data(), joints.data(), jointNormals.data(), p, n);
     const float4 c = mul(mvp(d), p);
     clip(v) = c;
     snap(v) = snapOrFlag(c, vp, gx, gy);
     if (kWorld) {
       worldPos(v) = mulPoint(dr.modelF, p);
-      worldNormal(v) = normalize(mul(dr.normalMatrix, normals(src)));
+      worldNormal(v) = normalize(mul(dr.normalMatrix, n));
     }
   }
 };
@@ -91,6 +133,32 @@ RAST_CPU_CLONES void transformRun(const VertexRun& r, uint32_t src0, uint32_t v0
   }
 }
 
+// A skinned draw's run of vertices [v, end) on a host backend: the arithmetic
+// of TransformVertices::one() with skins (the same bits), cloned for AVX-512
+// and AVX2 as transformRun is, the draw's fields read once.
+struct SkinRun {
+  VertexRun base;
+  DrawGPU draw;
+  const uint16_t* joints;
+  const float* weights;
+  const mat4f* palette;
+  const mat3f* paletteNormals;
+};
+RAST_CPU_CLONES void skinnedRun(const SkinRun& s, uint32_t src0, uint32_t v0, uint32_t end) {
+  const VertexRun& r = s.base;
+  for (uint32_t v = v0, src = src0; v < end; ++v, ++src) {
+    float3 p = r.positions[src], n = r.normals[src];
+    skinVertex(s.draw, v - s.draw.dstVertex, s.joints, s.weights, s.palette, s.paletteNormals, p, n);
+    const float4 c = mul(r.mvp, p);
+    r.clip[v] = c;
+    r.snap[v] = snapOrFlag(c, r.vp, r.gx, r.gy);
+    if (r.worldPos) {
+      r.worldPos[v] = mulPoint(r.model, p);
+      r.worldNormal[v] = normalize(mul(r.normalMatrix, n));
+    }
+  }
+}
+
 namespace {
 
 // The host backends' vertex stage: a work item takes kHostVertexChunk
@@ -98,9 +166,9 @@ namespace {
 // lookup (a binary search) and its matrices are fetched once per draw and
 // chunk rather than once per vertex.
 constexpr uint32_t kHostVertexChunk = 1024;
-template <bool kWorld>
+template <bool kWorld, bool kSkin>
 struct TransformVerticesHost {
-  TransformVertices<kWorld> t;
+  TransformVertices<kWorld, kSkin> t;
   uint32_t numVerts;
 
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t chunk) const {
@@ -115,7 +183,11 @@ struct TransformVerticesHost {
       const VertexRun r{t.positions.data(), t.normals.data(), t.clip.data(), t.snap.data(),
                         kWorld ? t.worldPos.data() : nullptr, kWorld ? t.worldNormal.data() : nullptr,
                         t.mvp(d), dr.modelF, dr.normalMatrix, t.vp, t.gx, t.gy};
-      transformRun(r, dr.srcVertex + (v - dr.dstVertex), v, end);
+      if (kSkin && dr.skinJoint >= 0)
+        skinnedRun(SkinRun{r, dr, t.skinJoints.data(), t.skinWeights.data(), t.joints.data(), t.jointNormals.data()},
+                   dr.srcVertex + (v - dr.dstVertex), v, end);
+      else
+        transformRun(r, dr.srcVertex + (v - dr.dstVertex), v, end);
       v = end;
     }
   }
@@ -123,10 +195,10 @@ struct TransformVerticesHost {
 
 // Launches the vertex transform: per vertex on GPUs, per chunk of vertices on
 // host backends (not built for GPUs).
-template <bool kHost, bool kWorld>
-void launchTransform(const TransformVertices<kWorld>& t, uint32_t numVerts) {
+template <bool kHost, bool kWorld, bool kSkin>
+void launchTransform(const TransformVertices<kWorld, kSkin>& t, uint32_t numVerts) {
   if constexpr (kHost) {
-    using Host = std::conditional_t<kHost, TransformVerticesHost<kWorld>, void>;  // dependent: not built for GPUs
+    using Host = std::conditional_t<kHost, TransformVerticesHost<kWorld, kSkin>, void>;  // dependent: not built for GPUs
     const uint32_t chunks = (numVerts + kHostVertexChunk - 1) / kHostVertexChunk;
     Kokkos::parallel_for("rast::vertex::transform", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, chunks),
                          Host{t, numVerts});
@@ -149,15 +221,23 @@ void vertexStage(const DeviceScene& s, FrameBuffers& f, bool needWorld) {
   if (needWorld) {
     ensureCapacity(f.worldPos, "frame.worldPos", s.numVerts);
     ensureCapacity(f.worldNormal, "frame.worldNormal", s.numVerts);
-    launchTransform<!kOnDevice>(TransformVertices<true>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
-                                                        s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy,
-                                                        f.uniforms, f.uploadSeen},
-                                s.numVerts);
+  }
+  // Four instantiations: world outputs or not, skins or not (a scene without
+  // skins runs the kernels it always ran).
+  const auto launch = [&](auto world, auto skin) {
+    TransformVertices<decltype(world)::value, decltype(skin)::value> t{
+        s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions, s.normals, f.clip, f.snap, f.worldPos,
+        f.worldNormal, f.vp, gx, gy, f.uniforms, f.uploadSeen, s.skinJoints, s.skinWeights, s.joints, s.jointNormals};
+    launchTransform<!kOnDevice>(t, s.numVerts);
+  };
+  using Yes = std::true_type;
+  using No = std::false_type;
+  if (needWorld) {
+    if (s.hasSkins) launch(Yes{}, Yes{});
+    else launch(Yes{}, No{});
   } else {
-    launchTransform<!kOnDevice>(TransformVertices<false>{s.draws, s.drawVertStart, s.vertDraw, s.numDraws, f.mvp, s.positions,
-                                                         s.normals, f.clip, f.snap, f.worldPos, f.worldNormal, f.vp, gx, gy,
-                                                         f.uniforms, f.uploadSeen},
-                                s.numVerts);
+    if (s.hasSkins) launch(No{}, Yes{});
+    else launch(No{}, No{});
   }
 }
 

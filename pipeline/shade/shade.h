@@ -34,6 +34,7 @@ struct ShadeParams {
   // an 8x8 block whose FrameBuffers::blockFrame is not this frame's holds
   // only clear keys, and the GPU's shading skips reading them.
   int32_t blockFrames;
+  int32_t anisotropy;  // most taps of anisotropic filtering (--filter auto, the glTF shading)
 };
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);

@@ -297,7 +297,7 @@ struct Shade {
                                                float2 dy) const {
     const TextureGPU tex = textures(t);
     if (p.filter == TexFilter::Auto)
-      return sampleSampler(tex, texels, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
+      return sampleSampler(tex, texels, decode, uv.x, uv.y, dx, dy, p.anisotropy);
     if (p.filter == TexFilter::Trilinear)
       return sampleTrilinear(tex, texels, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
     if (p.filter == TexFilter::Nearest) return sampleNearest(tex, texels, decode, uv.x, uv.y);

@@ -100,15 +100,11 @@ KOKKOS_INLINE_FUNCTION float4 sampleTrilinear(const TextureGPU& t, const Texels&
   return a * (1.0f - f) + b * f;
 }
 
-// A glTF sampler's filtering (TextureGPU::magFilter, minFilter, GL enums) at
-// level of detail `lod`: the magnification filter where lod <= 0, else the
-// minification filter, with its mipmap rule when the texture has levels
-// (nearest level: the rounded lod; linear: the two levels around it).
+// The minification filter of a glTF sampler at level of detail lod > 0.
 template <class Texels, class Lut>
-KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
-                                            float lod) {
+KOKKOS_INLINE_FUNCTION float4 sampleSamplerAt(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
+                                              float lod) {
   constexpr int32_t kNearest = 9728, kNearestMipNearest = 9984, kLinearMipNearest = 9985, kNearestMipLinear = 9986;
-  if (!(lod > 0.0f)) return t.magFilter == kNearest ? sampleNearest(t, texels, lut, u, v) : sampleBilinear(t, texels, lut, u, v);
   const int32_t m = t.minFilter;
   const bool nearestTexel = m == kNearest || m == kNearestMipNearest || m == kNearestMipLinear;
   auto level = [&](int k) {
@@ -124,6 +120,44 @@ KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& t
   const float4 a = level(k);
   if (f <= 0.0f || k + 1 >= t.levels) return a;
   return a * (1.0f - f) + level(k + 1) * f;
+}
+
+// A glTF sampler's filtering (TextureGPU::magFilter, minFilter, GL enums) for
+// a pixel whose texture coordinates change by (dx, dy) per pixel: the
+// magnification filter where the footprint is under a texel, else the
+// minification filter with its mipmap rule when the texture has levels
+// (nearest level: the rounded level of detail; linear: the two levels around
+// it). maxAniso > 1: anisotropic filtering where the sampler filters linearly
+// between levels (as the Khronos Sample Renderer asks WebGL for, 16x): up to
+// maxAniso taps along the footprint's longer axis, each at the level of detail
+// of its length divided by the taps (the usual approximation of the
+// footprint, EXT_texture_filter_anisotropic's), averaged.
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
+                                            float2 dx, float2 dy, int32_t maxAniso) {
+  constexpr int32_t kNearest = 9728, kNearestMipLinear = 9986;
+  const float ax = dx.x * float(t.width), bx = dx.y * float(t.height), ay = dy.x * float(t.width), by = dy.y * float(t.height);
+  const float rx = ax * ax + bx * bx, ry = ay * ay + by * by;
+  const float rho2 = rx > ry ? rx : ry;
+  const float lod = rho2 > 0.0f ? 0.5f * ::log2f(rho2) : 0.0f;
+  if (!(lod > 0.0f)) return t.magFilter == kNearest ? sampleNearest(t, texels, lut, u, v) : sampleBilinear(t, texels, lut, u, v);
+  const int32_t m0 = t.minFilter;
+  if (maxAniso > 1 && t.levels > 1 && t.magFilter != kNearest && (m0 == kNearestMipLinear || m0 == 9987)) {
+    const float rmin2 = rx > ry ? ry : rx;
+    const float ratio = rmin2 > 0.0f ? ::sqrtf(rho2 / rmin2) : float(maxAniso);
+    const int32_t n = ratio >= float(maxAniso) ? maxAniso : int32_t(::ceilf(ratio));
+    if (n > 1) {
+      const float2 axis = rx > ry ? dx : dy;  // the longer side, in uv per pixel
+      const float lodN = lod - ::log2f(float(n));
+      float4 acc{0.0f, 0.0f, 0.0f, 0.0f};
+      for (int32_t i = 0; i < n; ++i) {
+        const float s = (float(i) + 0.5f) / float(n) - 0.5f;
+        acc = acc + sampleSamplerAt(t, texels, lut, u + axis.x * s, v + axis.y * s, lodN > 0.0f ? lodN : 0.0f);
+      }
+      return acc * (1.0f / float(n));
+    }
+  }
+  return sampleSamplerAt(t, texels, lut, u, v, lod);
 }
 
 }  // namespace rast

@@ -2,7 +2,8 @@
 # Download (not install) the Debian packages that scripts/device/viewer_bench.sh
 # unpacks on the GPU machine to open GLX windows there: Xvfb with its GLX
 # extension (Mesa's swrast driver and LLVM) into .xmesa/, everything else
-# (GLFW, libglvnd, X client libraries, xkbcomp, glxinfo) into .xdeb/. Two
+# (GLFW, libglvnd, X client libraries, xkbcomp, glxinfo; Draco and meshoptimizer,
+# which the glTF loader links) into .xdeb/. Two
 # folders because one call to the GPU machine carries at most 64 MiB: the
 # first call unpacks .xmesa, the next ones carry .xdeb and the binaries.
 set -euo pipefail
@@ -21,7 +22,7 @@ libtinfo6 libunwind8 libwayland-client0 libwayland-egl1 libwayland-server0 libx1
 libxau6 libxaw7 libxcb-dri2-0 libxcb-dri3-0 libxcb-glx0 libxcb-present0 libxcb-randr0 libxcb-shm0 libxcb-sync1
 libxcb-xfixes0 libxcb1 libxdmcp6 libxext6 libxfixes3 libxfont2 libxkbfile1 libxmu6 libxpm4 libxrandr2 libxrender1
 libxshmfence1 libxt6 libxxf86vm1 mesa-utils mesa-utils-bin x11-common x11-xkb-utils xkb-data xserver-common xvfb
-libgomp1 libepoxy0"
+libgomp1 libepoxy0 libdraco7 libmeshoptimizer2d"
 mkdir -p .xmesa .xdeb
 (cd .xmesa && apt-get download $mesa)
 (cd .xdeb && apt-get download $rest)

@@ -6,8 +6,9 @@
 #   .device/openmp/rast                          a CPU build, the parity reference
 #   .device/assimp/                              Debian's assimp glTF2 test models
 #   .device/shared/models/                       ../shared/models, when present
-#   .device/lib/                                 host runtime libraries the CPU build needs
-#                                                (libgomp), in case the target lacks them
+#   .device/shared/envs/                         ../shared/envs (the .hdr environments), when present
+#   .device/lib/                                 host runtime libraries the builds need
+#                                                (libgomp, libdraco, libmeshoptimizer), in case the target lacks them
 #   .device/kokkos_count.so                      Kokkos Tools launch counter (scripts/device/kokkos_count.cpp)
 #   .device/kokkos_ktime.so                      Kokkos Tools per-kernel timer (scripts/device/kokkos_ktime.cpp)
 #   .device/src/tests/                           golden images and CLI test scripts of the
@@ -72,6 +73,10 @@ if [ -d "$shared/models" ]; then
 else
   echo "pack.sh: note: $shared/models absent; tests on shared models will skip" >&2
 fi
+if [ -d "$shared/envs" ]; then  # rast_tests "[.bench]" filters ../shared/envs/chinese_garden_1k.hdr
+  mkdir -p "$dev/shared"
+  cp -r "$shared/envs" "$dev/shared/envs"
+fi
 
 if [ -x "$glref" ]; then
   cp "$glref" "$dev/glref"
@@ -89,9 +94,10 @@ if command -v g++ >/dev/null; then
     echo "pack.sh: note: kokkos_ktime.so not built; no per-kernel times" >&2
 fi
 
-# Non-system shared libraries the binaries use (libgomp for the OpenMP build).
+# Non-system shared libraries the binaries use (libgomp for the OpenMP build;
+# Debian's Draco and meshoptimizer for the glTF loader, docs/compression.md).
 for f in "$dev"/cuda/* "$dev"/openmp/*; do
-  ldd "$f" | awk '/=> \// {print $3}' | grep -E 'libgomp' || true
+  ldd "$f" | awk '/=> \// {print $3}' | grep -E 'libgomp|libdraco|libmeshoptimizer' || true
 done | sort -u | while read -r lib; do cp -L "$lib" "$dev/lib/"; done
 
 src_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cuda_build/CMakeCache.txt")

@@ -36,7 +36,8 @@ bin="$out/fuzz_loader"
 srcs=(tests/fuzz/fuzz_loader.cpp
       host/gltf/file_gate.cpp host/gltf/schema_check.cpp host/gltf/image_decode.cpp host/gltf/accessors.cpp
       host/gltf/model_walk.cpp host/gltf/uri_resolver.cpp
-      host/scene/scene.cpp host/scene/memory_budget.cpp host/third_party_impl.cpp)
+      host/gltf/animation_load.cpp host/gltf/instancing.cpp host/gltf/compression.cpp
+      host/scene/scene.cpp host/scene/animation.cpp host/scene/memory_budget.cpp host/third_party_impl.cpp)
 # Rebuild only when a source is newer than the binary.
 need=1
 if [ -x "$bin" ]; then
@@ -48,7 +49,7 @@ if [ "$need" = 1 ]; then
   "$CXX" -std=c++17 -g -O1 -fno-omit-frame-pointer -fopenmp \
     -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -Wno-macro-redefined \
     -DGLM_FORCE_CXX17 -DTINYGLTF_USE_CPP14 -I. -isystem "$kokkos/include" \
-    "${srcs[@]}" -o "$bin"
+    "${srcs[@]}" -ldraco -lmeshoptimizer -o "$bin"  # the decoders of host/gltf/compression.cpp
 fi
 
 # Seeds from the repository, then what earlier runs found.

@@ -30,7 +30,6 @@ env.setdefault("OMP_PROC_BIND", "false")  # else Kokkos prints OpenMP advice on 
 # their error must contain (the same outcomes as tests/unit/test_loader.cpp's table).
 ASSIMP_BAD = {
     "BoxTextured-glTF-techniqueWebGL/BoxTextured.gltf": "requires extension KHR_technique_webgl",
-    "draco/2CylinderEngine.gltf": "requires extension KHR_draco_mesh_compression",
     "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb": "non-finite",
     "IndexOutOfRange/IndexOutOfRange.gltf": "out of range",
     "IndexOutOfRange/AllIndicesOutOfRange.gltf": "out of range",

@@ -155,7 +155,7 @@ c["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "spot", "spot": {
 c["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
     "KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": 0.4, "scale": [2, 0.5], "texCoord": 0}}
 save("cameras_transform.gltf", c)
-# 11. the glTF material model and every light type (#37): factors, the four
+# 13. the glTF material model and every light type (#37): factors, the four
 #     other texture slots on one image, emissive strength, unlit, double-sided,
 #     samplers with filters; a point light with a range, a directional one
 m = json.load(open(os.path.join(out, "textured.gltf")))
@@ -176,4 +176,108 @@ m["samplers"] = [{"magFilter": 9728, "minFilter": 9986, "wrapS": 33648, "wrapT":
 for t in m["textures"]:
     t["sampler"] = 0
 save("materials_lights.gltf", m)
+# 11. what moves (#40): a triangle skinned to two joints, a morph target, and
+#     animations of translation (LINEAR), rotation (STEP), scale (CUBICSPLINE)
+#     and weights; then the same file broken in each way the loader refuses:
+#     times not increasing, a NaN key, an output count that disagrees with the
+#     input's, a joint index beyond the skin, a joint hierarchy with a cycle.
+def animated(times=(0.0, 1.0), key=1.0, out_keys=2, joint=1, cycle=False):
+    tri = TRI
+    joints = struct.pack("<12B", 0, 0, 0, 0, joint, 0, 0, 0, 1, 0, 0, 0)
+    weights = struct.pack("<12f", 1, 0, 0, 0, 1, 0, 0, 0, 0.5, 0.5, 0, 0)
+    target = struct.pack("<9f", 0, -1, 0, 0, 0, 0, 0, 0, 0)
+    target2 = struct.pack("<9f", 0, 0, 0, 0.5, 0.5, 0, 0, 0, 0)
+    ibm = struct.pack("<32f", *([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1] * 2))
+    tin = struct.pack(f"<{len(times)}f", *times)
+    tr = struct.pack(f"<{3 * out_keys}f", *([0, 0, 0] + [key, 0, 0] * (out_keys - 1)))
+    rot = struct.pack("<8f", 0, 0, 0, 1, 0, 0, 0.7071, 0.7071)
+    sc = struct.pack("<18f", 0, 0, 0, 1, 1, 1, 0, 0, 0, 0, 0, 0, 2, 2, 2, 0, 0, 0)
+    wt = struct.pack("<4f", 0, 0.5, 1, 0)  # two targets: a single-weight channel trips up viewers that unwrap it
+    parts = [tri, joints, weights, target, ibm, tin, tr, rot, sc, wt, target2]
+    views, off = [], 0
+    for p in parts:
+        views.append({"buffer": 0, "byteOffset": off, "byteLength": len(p)})
+        off += len(p)
+    acc = [pos, {"bufferView": 1, "componentType": 5121, "count": 3, "type": "VEC4"},
+           {"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC4"},
+           {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"},
+           {"bufferView": 4, "componentType": 5126, "count": 2, "type": "MAT4"},
+           {"bufferView": 5, "componentType": 5126, "count": len(times), "type": "SCALAR"},
+           {"bufferView": 6, "componentType": 5126, "count": out_keys, "type": "VEC3"},
+           {"bufferView": 7, "componentType": 5126, "count": 2, "type": "VEC4"},
+           {"bufferView": 8, "componentType": 5126, "count": 6, "type": "VEC3"},
+           {"bufferView": 9, "componentType": 5126, "count": 4, "type": "SCALAR"},
+           {"bufferView": 10, "componentType": 5126, "count": 3, "type": "VEC3"}]
+    d = doc([{"attributes": {"POSITION": 0, "JOINTS_0": 1, "WEIGHTS_0": 2}, "targets": [{"POSITION": 3}, {"POSITION": 10}]}],
+            {"byteLength": off, "uri": data_uri(b"".join(parts))}, views, acc)
+    d["nodes"] = [{"mesh": 0, "skin": 0, "weights": [0.5, 0.25]}, {"children": [2]}, {"children": [1] if cycle else []},
+                  {"children": [1]}]
+    d["scenes"] = [{"nodes": [0, 3]}]
+    d["skins"] = [{"joints": [1, 2], "inverseBindMatrices": 4}]
+    d["animations"] = [{"name": "move", "samplers": [
+        {"input": 5, "output": 6}, {"input": 5, "output": 7, "interpolation": "STEP"},
+        {"input": 5, "output": 8, "interpolation": "CUBICSPLINE"}, {"input": 5, "output": 9}],
+        "channels": [{"sampler": 0, "target": {"node": 2, "path": "translation"}},
+                     {"sampler": 1, "target": {"node": 1, "path": "rotation"}},
+                     {"sampler": 2, "target": {"node": 2, "path": "scale"}},
+                     {"sampler": 3, "target": {"node": 0, "path": "weights"}}]}]
+    return d
+
+
+save("anim_skin_morph.gltf", animated())
+save("anim_bad_times.gltf", animated(times=(1.0, 1.0)))
+save("anim_bad_nan.gltf", animated(key=float("nan")))
+save("anim_bad_count.gltf", animated(out_keys=3))
+save("anim_bad_joint.gltf", animated(joint=7))
+save("anim_bad_cycle.gltf", animated(cycle=True))
+# 12. compressed geometry (#40, docs/compression.md): a 3x3 grid of 8 triangles
+#     as EXT_meshopt_compression streams (with a fallback buffer holding no data)
+#     and as a KHR_draco_mesh_compression stream, then broken: meshopt bytes
+#     flipped, a Draco stream cut short, a meshopt view claiming 2^28 vertices
+#     (over a small budget, decoded size charged first). The streams were made by
+#     Debian's libmeshoptimizer 0.18 and libdraco 1.5.5 encoders (as
+#     tests/unit/test_compression.cpp makes its own).
+MO_VERTS = "a00000010f3cc000ffffffffff0133cf00007e7d7e7d7e000001000c0000ff01030000007e000001003fc000ffffffff0100cf00007c7b7c0000000000000000000000000000000000000000000000000000000000000000"
+MO_INDICES = "e0fe0ffe136f0f5f020f0801f304040104007687566778a9866589689801690000"
+DRACO = ("445241434f02020101000000090800080200037fda07ff011101ff0000010009030000000000003f0000003f0000003e0000000000"
+         "00003f000000000000000000000000000000000000003f00000000000000000000803f0000003f0000803e0000803f000000000000"
+         "00000000803f0000803f0000003e0000003f0000803f0000803e000000000000803f00000000")
+
+
+def meshopt_doc(vb, ib, count=9):
+    vb, ib = bytes.fromhex(vb), bytes.fromhex(ib)
+    pad = b"\0" * (-len(vb) % 4)
+    blob = vb + pad + ib
+
+    def ext(off, n, stride, cnt, mode):
+        return {"EXT_meshopt_compression": {"buffer": 0, "byteOffset": off, "byteLength": n, "byteStride": stride,
+                                            "count": cnt, "mode": mode}}
+    return {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+            "extensionsUsed": ["EXT_meshopt_compression"], "extensionsRequired": ["EXT_meshopt_compression"],
+            "buffers": [{"byteLength": len(blob), "uri": data_uri(blob)},
+                        {"byteLength": count * 12 + 96, "extensions": {"EXT_meshopt_compression": {"fallback": True}}}],
+            "bufferViews": [{"buffer": 1, "byteLength": count * 12, "byteStride": 12, "extensions": ext(0, len(vb), 12, count, "ATTRIBUTES")},
+                            {"buffer": 1, "byteOffset": count * 12, "byteLength": 96,
+                             "extensions": ext(len(vb) + len(pad), len(ib), 4, 24, "TRIANGLES")}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": count, "type": "VEC3"},
+                          {"bufferView": 1, "componentType": 5125, "count": 24, "type": "SCALAR"}]}
+
+
+def draco_doc(stream):
+    b = bytes.fromhex(stream)
+    return {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "extensions": {
+                "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
+            "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"],
+            "buffers": [{"byteLength": len(b), "uri": data_uri(b)}], "bufferViews": [{"buffer": 0, "byteLength": len(b)}],
+            "accessors": [{"componentType": 5126, "count": 9, "type": "VEC3"},
+                          {"componentType": 5125, "count": 24, "type": "SCALAR"}]}
+
+
+save("meshopt_grid.gltf", meshopt_doc(MO_VERTS, MO_INDICES))
+save("meshopt_bad_stream.gltf", meshopt_doc(MO_VERTS[:8] + "ff" * 40 + MO_VERTS[88:], MO_INDICES))
+save("meshopt_bad_count.gltf", meshopt_doc(MO_VERTS, MO_INDICES, count=1 << 28))
+save("draco_grid.gltf", draco_doc(DRACO))
+save("draco_bad_cut.gltf", draco_doc(DRACO[:len(DRACO) // 2]))
 print(f"wrote {len(os.listdir(out))} seeds to {out}")

@@ -24,7 +24,7 @@ LAYERS = {
     "include/rast": -1,  # the installed API's headers (docs/library.md): Kokkos and std only
     "base": 0,
     "host/scene": 1,
-    "host/settings": 2, "host/gltf": 2, "host/image": 2,
+    "host/settings": 2, "host/gltf": 2, "host/image": 2, "host/distributed": 2,
     "scenes": 3,
     "backends": 3,
     "pipeline/data": 4,
@@ -33,6 +33,7 @@ LAYERS = {
     "pipeline/shade": 7, "pipeline/post": 7,
     "pipeline/cpu": 8, "pipeline/blend": 8,  # blend: MASK and BLEND passes (docs/transparency.md)
     "pipeline/frame": 9,
+    "pipeline/distributed": 9.5,  # sort-last compositing: hooks into the renderer (docs/distributed.md)
     "api": 10,  # the library behind include/rast/rast.h
     "app": 10,
     "python": 11,  # the Python module, over include/rast only

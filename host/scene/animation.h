@@ -1,0 +1,134 @@
+// What makes a glTF scene move, kept beside its Scene: the node hierarchy with
+// each node's rest transform, the animations (samplers and channels), the
+// skins (joints and inverse bind matrices) and, per deformed draw, its bind
+// pose, joint influences and morph-target deltas. A static scene has none
+// (Scene::rig is null) and pays nothing.
+//
+// Posing (poseScene) evaluates the animations at a time into node transforms,
+// then writes every draw's model matrix and every deformed draw's vertices
+// (morph targets, then skinning) into the Scene, in place: the pose a
+// renderer uploads and auto-framing bounds. It runs on the host in double
+// precision, so the same time gives the same bits on every backend.
+#pragma once
+
+#include "host/scene/scene.h"
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rast {
+
+struct RigNode {
+  int32_t parent = -1;
+  bool hasMatrix = false;  // a node given as a matrix (never animated)
+  glm::dmat4 matrix = glm::dmat4(1.0);
+  glm::dvec3 translation{0.0};
+  glm::dquat rotation{1.0, 0.0, 0.0, 0.0};  // w, x, y, z
+  glm::dvec3 scale{1.0};
+  std::vector<double> weights;  // morph weights (the node's, else its mesh's); empty: no targets
+};
+
+enum class Interpolation { Linear, Step, CubicSpline };
+enum class AnimPath { Translation, Rotation, Scale, Weights };
+
+struct AnimSampler {
+  Interpolation interp = Interpolation::Linear;
+  std::vector<float> times;   // strictly increasing, finite
+  std::vector<float> values;  // per key: comps (x3 for CUBICSPLINE: in-tangent, value, out-tangent)
+  uint32_t comps = 0;         // 3 (T, S), 4 (R), or the target count (weights)
+};
+
+struct AnimChannel {
+  int32_t node = 0;
+  AnimPath path = AnimPath::Translation;
+  int32_t sampler = 0;
+};
+
+struct Animation {
+  std::string name;
+  std::vector<AnimSampler> samplers;
+  std::vector<AnimChannel> channels;
+  double start = 0.0, end = 0.0;  // first and last key time over its samplers
+};
+
+struct Skin {
+  std::vector<int32_t> joints;           // node indices
+  std::vector<glm::dmat4> inverseBind;   // one per joint (identity when the file gives none)
+};
+
+// A draw whose vertices move: it owns its primitive (the loader copies a
+// primitive drawn by several deformed nodes), whose bind-pose streams are kept
+// here, so that each pose is written from them.
+struct DeformedDraw {
+  uint32_t draw = 0;
+  int32_t skin = -1;                   // -1: morph targets only
+  std::vector<float3> basePositions, baseNormals;
+  bool flatNormals = false;            // normals were generated per face: recomputed after posing
+  // Skinning: 4 joints and 4 weights per influence set (1 or 2 sets) per vertex;
+  // weights normalised to sum 1 at load.
+  uint32_t sets = 0;
+  std::vector<uint16_t> joints;
+  std::vector<float> weights;
+  // Morph targets: targets x vertexCount deltas (normals empty when no target has NORMAL).
+  uint32_t targets = 0;
+  std::vector<float3> targetPositions, targetNormals;
+};
+
+struct SceneRig {
+  std::vector<RigNode> nodes;      // every node of the file
+  std::vector<int32_t> order;      // nodes with each parent before its children
+  std::vector<int32_t> drawNode;   // per Scene::draws: the node that places it
+  std::vector<glm::dmat4> drawInstance;  // per draw, its instance under the node (EXT_mesh_gpu_instancing); empty: none
+  std::vector<Animation> animations;
+  std::vector<Skin> skins;
+  std::vector<DeformedDraw> deformed;
+};
+
+// Which animations play, and when.
+constexpr int kAllAnimations = -1;  // every animation at once (as the Khronos Sample Renderer plays them)
+constexpr int kNoAnimation = -2;    // the nodes' own transforms and weights (the rest pose)
+struct PoseRequest {
+  double time = 0.0;
+  int animation = kAllAnimations;  // or an index into SceneRig::animations
+};
+
+// The animation named `which` (an index from 0, or a name) of the rig; throws
+// an Error listing the animations when there is none such.
+int findAnimation(const SceneRig& rig, const std::string& which);
+
+// One sampler at time t: comps values into out. Times before the first key give
+// the first value, after the last the last (glTF 2.0, 3.11). Rotations are
+// slerped (LINEAR) or normalised (CUBICSPLINE); cubic-spline tangents are
+// scaled by the key interval.
+void sampleAt(const AnimSampler& s, double t, bool rotation, double* out);
+
+// Every node's world matrix at the request's time (rest transforms where no
+// channel drives a node), and every node's morph weights (out).
+std::vector<glm::dmat4> evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<std::vector<double>>* weights);
+
+// Writes the pose into the scene: draws' model matrices, deformed draws'
+// vertices (morphed; skinned too with skinOnHost, else left in the morphed
+// bind pose for the device's vertex stage to skin), and the request itself
+// (Scene::poseTime, poseAnimation, skinnedOnHost).
+void poseScene(Scene& s, const PoseRequest& r, bool skinOnHost = true);
+
+// What the device's vertex stage skins with at the scene's pose
+// (pipeline/data/device_scene.cpp): every skinned draw's joint matrices
+// (world * inverse bind) and their normal matrices (inverse transpose), the
+// draws' palettes one after another.
+struct SkinPalette {
+  std::vector<glm::dmat4> joints;
+  std::vector<glm::dmat3> normals;
+  std::vector<int32_t> start;  // per Scene::draws: its first joint, -1: not skinned on the device
+};
+// The palette; and, when the scene's skinned draws were skinned on the host,
+// their morphed bind pose written over `positions`/`normals` (copies of the
+// scene's streams), which is what the device takes.
+SkinPalette skinPalette(const Scene& s, std::vector<float3>* positions = nullptr, std::vector<float3>* normals = nullptr);
+// Whether any draw of the scene is skinned.
+bool hasSkins(const Scene& s);
+
+}  // namespace rast

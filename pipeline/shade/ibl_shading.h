@@ -1,0 +1,107 @@
+// The image-based light of a fragment, as the Khronos glTF Sample Renderer
+// computes it (its ibl.glsl and the IBL block of pbr.frag): Lambertian
+// irradiance times base colour, GGX-prefiltered radiance along the reflected
+// view at lod = roughness * (mipCount - 1), the split-sum table with its
+// multiple-scattering term (Fdez-Aguera) for the dielectric and the metal
+// Fresnel, mixed by metallic, occlusion applied with its strength. Reads an
+// EnvironmentGPU built once by buildEnvironment (environment.h).
+#pragma once
+
+#include "pipeline/shade/cube_map.h"
+#include "pipeline/shade/environment.h"
+
+namespace rast {
+
+// The environment's rotation about +Y applied to a lookup direction (the
+// Sample Renderer's u_EnvRotation * dir).
+KOKKOS_INLINE_FUNCTION float3 envRotate(const EnvironmentGPU& e, float3 d) {
+  return {e.cosRot * d.x + e.sinRot * d.z, d.y, e.cosRot * d.z - e.sinRot * d.x};
+}
+
+KOKKOS_INLINE_FUNCTION float3 rgb3(float4 c) { return {c.x, c.y, c.z}; }
+
+// Irradiance / pi around normal n, times the intensity (getDiffuseLight).
+KOKKOS_INLINE_FUNCTION float3 iblDiffuse(const EnvironmentGPU& e, float3 n) {
+  const CubeCoord c = cubeCoord(envRotate(e, n));
+  return rgb3(cubeBilinear(e.diffuse, 0u, e.diffuseSize, c)) * e.intensity;
+}
+
+// Prefiltered radiance along direction r at perceptual roughness (getSpecularSample).
+KOKKOS_INLINE_FUNCTION float3 iblRadiance(const EnvironmentGPU& e, float3 r, float roughness) {
+  const float lod = roughness * float(e.mipCount - 1);
+  return rgb3(cubeTrilinear(e.specular, e.levelOffset, e.faceSize, e.mipCount, envRotate(e, r), lod)) * e.intensity;
+}
+
+// Prefiltered radiance along reflect(-v, n) (getIBLRadianceGGX); n, v unit.
+KOKKOS_INLINE_FUNCTION float3 iblSpecular(const EnvironmentGPU& e, float3 n, float3 v, float roughness) {
+  const float ndv = dot(n, v);
+  return iblRadiance(e, normalize(n * (2.0f * ndv) - v), roughness);
+}
+
+// The split-sum table at (NdotV, roughness), both clamped to [0, 1],
+// bilinear with clamped edges as the reference's texture() reads it.
+KOKKOS_INLINE_FUNCTION float2 iblBrdf(const EnvironmentGPU& e, float NdotV, float roughness) {
+  const int32_t n = e.lutSize;
+  const float fn = float(n);
+  const float u = clamp01(NdotV) * fn - 0.5f, w = clamp01(roughness) * fn - 0.5f;
+  const float fu = floorTexel(u), fw = floorTexel(w);
+  const float a = u - fu, b = w - fw;
+  const int32_t x0 = imax(int32_t(fu), 0), y0 = imax(int32_t(fw), 0);
+  const int32_t x1 = imin(int32_t(fu) + 1, n - 1), y1 = imin(int32_t(fw) + 1, n - 1);
+  const float2 t00 = e.lut(uint32_t(y0) * n + x0), t10 = e.lut(uint32_t(y0) * n + x1);
+  const float2 t01 = e.lut(uint32_t(y1) * n + x0), t11 = e.lut(uint32_t(y1) * n + x1);
+  const float sx = (t00.x * (1.0f - a) + t10.x * a) * (1.0f - b) + (t01.x * (1.0f - a) + t11.x * a) * b;
+  const float sy = (t00.y * (1.0f - a) + t10.y * a) * (1.0f - b) + (t01.y * (1.0f - a) + t11.y * a) * b;
+  return {sx, sy};
+}
+
+// The reference's getIBLGGXFresnel with specularWeight 1: single scattering
+// (F0 + Fr (1 - NdotV)^5) f_ab.x + f_ab.y with its roughness-dependent Fr,
+// plus the multiple-scattering energy.
+KOKKOS_INLINE_FUNCTION float3 iblGgxFresnel(float NdotV, float roughness, float3 f0, float2 fab) {
+  const float r = 1.0f - roughness;
+  const float3 fr = {(r > f0.x ? r : f0.x) - f0.x, (r > f0.y ? r : f0.y) - f0.y, (r > f0.z ? r : f0.z) - f0.z};
+  const float m = 1.0f - NdotV, m2 = m * m, p5 = m2 * m2 * m;
+  const float3 kS = f0 + fr * p5;
+  const float3 fssEss = kS * fab.x + make3(fab.y, fab.y, fab.y);
+  const float ems = 1.0f - (fab.x + fab.y);
+  const float3 fAvg = f0 + (make3(1.0f, 1.0f, 1.0f) - f0) * (1.0f / 21.0f);
+  const float3 num = fssEss * fAvg * ems;
+  const float3 fmsEms = {num.x / (1.0f - fAvg.x * ems), num.y / (1.0f - fAvg.y * ems), num.z / (1.0f - fAvg.z * ems)};
+  return fssEss + fmsEms;
+}
+
+// The whole image-based light of a metallic-roughness material: n, v unit
+// (v towards the eye), roughness perceptual (the material's, before
+// squaring), occlusion the occlusion texel's value and its strength:
+// colour * (1 + strength (occlusion - 1)), on this light only.
+KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3 v, float3 baseColor, float metallic,
+                                       float roughness, float occlusion, float occlusionStrength = 1.0f) {
+  const float ndv = clamp01(dot(n, v));
+  const float2 fab = iblBrdf(e, ndv, roughness);
+  const float3 diffuse = iblDiffuse(e, n) * baseColor;
+  const float3 specular = iblRadiance(e, normalize(n * (2.0f * dot(n, v)) - v), roughness);
+  const float3 metalF = iblGgxFresnel(ndv, roughness, baseColor, fab);
+  const float3 dielF = iblGgxFresnel(ndv, roughness, make3(0.04f, 0.04f, 0.04f), fab);
+  const float3 one = make3(1.0f, 1.0f, 1.0f);
+  const float3 dielectric = diffuse * (one - dielF) + specular * dielF;
+  const float3 metal = metalF * specular;
+  const float3 color = dielectric * (1.0f - metallic) + metal * metallic;
+  return color * (1.0f + occlusionStrength * (occlusion - 1.0f));
+}
+
+// The environment seen along view direction `dir` (world space, from the
+// eye), blurred as the reference's background is (backgroundLod).
+KOKKOS_INLINE_FUNCTION float3 envBackground(const EnvironmentGPU& e, float3 dir) {
+  return rgb3(cubeTrilinear(e.specular, e.levelOffset, e.faceSize, e.mipCount, envRotate(e, dir), e.backgroundLod)) *
+         e.intensity;
+}
+
+// The background at pixel (px, py) (from the left and the top) of the image
+// `rays` was made for (envViewRays, environment.h).
+KOKKOS_INLINE_FUNCTION float3 envBackgroundAt(const EnvironmentGPU& e, const EnvViewRays& rays, int32_t px,
+                                              int32_t py) {
+  return envBackground(e, normalize(rays.d00 + rays.dx * float(px) + rays.dy * float(py)));
+}
+
+}  // namespace rast
