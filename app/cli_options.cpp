@@ -58,8 +58,12 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--interp", interp, "attribute interpolation: perspective|affine (affine only to compare)")
       ->capture_default_str();
   app.add_option("--raster", raster, "raster method: auto|naive|visbuffer|binned")->capture_default_str();
+  app.add_option("--transparency", transparency,
+                 "glTF BLEND surfaces: auto|exact|kbuffer|weighted|sorted (docs/transparency.md)")
+      ->capture_default_str();
+  app.add_option("--blend-k", blendK, "kbuffer: fragments kept exact per sample, 1..64")->capture_default_str();
   app.add_option("--light", lights, "directional light towards x,y,z[,intensity] (repeatable; default: a headlight)");
-  app.add_option("--background", background, "background colour r,g,b in [0,1], linear (default: black, or the builtin scene's)");
+  app.add_option("--background", background, "background colour r,g,b[,a] in [0,1], linear, or `transparent`; alpha < 1 writes RGBA PNGs (default: black, or the builtin scene's)");
   app.add_option("--exposure", exposure, "exposure in EV (colour times 2^EV) before tone mapping")->capture_default_str();
   app.add_option("--tonemap", tonemap, "tone mapping: none|reinhard|aces|pbr-neutral")->capture_default_str();
   bloomOpt = app.add_option("--bloom", bloom,
@@ -129,6 +133,9 @@ RenderSettings SceneOptions::settings() const {
   rs.envIntensity = float(envIntensity);
   rs.envRotation = float(envRotation);
   rs.raster = parseRaster(raster);
+  rs.transparency = parseTransparency(transparency);
+  if (blendK < 1 || blendK > 64) throw Error("--blend-k must be 1..64");
+  rs.blendK = blendK;
   parseAA(aa.empty() ? "none" : aa, rs);
   rs.reference = reference;
   rs.referenceGrid = referenceGrid;
@@ -149,9 +156,12 @@ RenderSettings SceneOptions::settings() const {
   if (!(pointSize >= 1.0 && pointSize <= 64.0)) throw Error("--point-size must be 1..64 pixels");
   rs.lineWidth = float(lineWidth);
   rs.pointSize = float(pointSize);
-  if (!background.empty()) {
+  if (background == "transparent") {
+    rs.background = float4{0.0f, 0.0f, 0.0f, 0.0f};  // RGBA PNGs (docs/transparency.md)
+  } else if (!background.empty()) {
     const auto bg = parseNumbers(background, "background", 3, 4);
-    rs.background = float4{float(bg[0]), float(bg[1]), float(bg[2]), 1.0f};
+    if (bg.size() == 4 && !(bg[3] >= 0.0 && bg[3] <= 1.0)) throw Error("--background: alpha must be in [0,1]");
+    rs.background = float4{float(bg[0]), float(bg[1]), float(bg[2]), bg.size() == 4 ? float(bg[3]) : 1.0f};
   }
   rs.post.exposure = float(exposure);
   rs.post.tonemap = parseToneMap(tonemap);

@@ -23,7 +23,8 @@ struct SceneOptions {
   std::string fileCamera;           // --camera N|NAME: a camera of the glTF file
   std::optional<double> ortho;      // --ortho H: orthographic, half height H
   // shading empty: pbr for glTF files, lambert for the built-in scenes (applySceneLook)
-  std::string cull = "none", shading, filter = "auto", raster = "auto";
+  std::string cull = "none", shading, filter = "auto", raster = "auto", transparency = "auto";
+  int blendK = 8;
   std::vector<std::string> lights;
   std::string background;  // empty: the scene's look, else black
   std::string aa, interp = "perspective";  // aa empty: the scene's look for stills, else none

@@ -125,7 +125,7 @@ void writeOutputs(const Renderer& r, const RenderSettings& rs, const AovRequest&
       f.write(row.data(), row.size() * sizeof(float));
     }
   } else {
-    writePng(open(out), rs.width, rs.height, r.colorTopDown());
+    writePng(open(out), rs.width, rs.height, r.colorTopDown(), rs.background.w < 1.0f);
   }
   for (const auto& f : files) f->commit();
 }
@@ -226,6 +226,9 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       });
     }
     if (sortLast) st.trianglesIn = uint32_t(loaded.trianglesAll);
+    if (st.blendFallback)
+      std::fprintf(stderr, "rast: note: storing every BLEND fragment (%llu) would exceed the memory budget: drawn "
+                           "with --transparency kbuffer (k %d) instead\n", (unsigned long long)st.blendFragments, rs.blendK);
     std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised%s, method %s, aa %s)\n", printable(o).c_str(), rs.width,
                 rs.height, st.trianglesIn, st.rasterTris, sortLast ? " on rank 0" : "", toString(st.method),
                 aaName(rs).c_str());

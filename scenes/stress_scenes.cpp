@@ -4,6 +4,7 @@
 // so every renderer given the same flags sees the same frame. At that camera
 // the plane z = 0 shows x in about [-3.7, 3.7] and y in [-2.07, 2.07] (16:9).
 #include "scenes/stress_scenes.h"
+#include "scenes/transparency_scenes.h"
 
 #include <cmath>
 #include <limits>
@@ -345,6 +346,9 @@ const std::vector<StressSceneRow>& stressSceneTable() {
       {{"grid", "a 2n^2-triangle grid for triangle-size sweeps (?n=)"}, gridScene},
       {{"lines", "a million line segments, vertex-coloured, and an occluding quad (?n=)"}, linesScene},
       {{"points", "a million points, vertex-coloured, and an occluding quad (?n=)"}, pointsScene},
+      {{"layers", "BLEND layers over an opaque backdrop (?n=&alpha=&mixed=&unlit=&back=&order=&cross=&equal=&near_alpha=)"},
+       transparencyLayers},
+      {{"cutout", "a MASK quad, COLOR_0 alpha 0 to 1, over an opaque backdrop (?cutoff=&blend=)"}, transparencyCutout},
   };
   return rows;
 }

@@ -43,6 +43,11 @@ std::vector<RasterMethod> rasterMethods() {
   return ms;
 }
 
+// B: how BLEND surfaces are composited (docs/transparency.md).
+std::vector<Transparency> transparencyModes() {
+  return knownModes<Transparency>(parseTransparency, {"auto", "exact", "kbuffer", "weighted", "sorted"});
+}
+
 template <class T>
 std::vector<std::string> namesOf(const std::vector<T>& values) {
   std::vector<std::string> out;
@@ -124,6 +129,10 @@ const std::vector<ViewerAction>& viewerActions() {
          [](const Viewer&) { return namesOf(filterModes()); },
          [](const Viewer& v) { return indexOf(filterModes(), v.rs_.filter); },
          [](Viewer& v, int i) { v.rs_.filter = filterModes()[size_t(i)]; }},
+        {"transparency", "B", "next / previous transparency method (glTF BLEND surfaces)", K::Cycle, W::Combo,
+         "transparency", [](const Viewer&) { return namesOf(transparencyModes()); },
+         [](const Viewer& v) { return indexOf(transparencyModes(), v.rs_.transparency); },
+         [](Viewer& v, int i) { v.rs_.transparency = transparencyModes()[size_t(i)]; }},
         {"bloom", "P", "bloom on/off (post-processing: overlay)", K::Toggle, W::PostCheckbox, "bloom",
          [](const Viewer&) { return std::vector<std::string>{"off", "on"}; },
          [](const Viewer& v) { return v.rs_.post.bloom ? 1 : 0; },

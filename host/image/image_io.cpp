@@ -14,14 +14,12 @@
 
 namespace rast {
 
-void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba) {
-  // Opaque images are written as RGB, like glref's.
-  std::vector<unsigned char> rgb(size_t(w) * h * 3);
-  for (size_t i = 0; i < size_t(w) * h; ++i) {
-    rgb[3 * i] = rgba[i] & 0xff;
-    rgb[3 * i + 1] = (rgba[i] >> 8) & 0xff;
-    rgb[3 * i + 2] = (rgba[i] >> 16) & 0xff;
-  }
+void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba, bool alpha) {
+  // Opaque images are written as RGB, like glref's; with alpha, RGBA.
+  const int ch = alpha ? 4 : 3;
+  std::vector<unsigned char> rgb(size_t(w) * h * ch);
+  for (size_t i = 0; i < size_t(w) * h; ++i)
+    for (int k = 0; k < ch; ++k) rgb[ch * i + k] = (rgba[i] >> (8 * k)) & 0xff;
   // Encoded in memory first (stb_image_write does so anyway), then written
   // with every error checked: stbi_write_png ignores fwrite/fclose failures.
   std::vector<unsigned char> png;
@@ -29,7 +27,7 @@ void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba) {
     auto* out = static_cast<std::vector<unsigned char>*>(ctx);
     out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
   };
-  if (!stbi_write_png_to_func(append, &png, w, h, 3, rgb.data(), w * 3) || png.empty())
+  if (!stbi_write_png_to_func(append, &png, w, h, ch, rgb.data(), w * ch) || png.empty())
     throw Error("cannot encode the PNG for '" + printable(f.path()) + "'");
   f.write(png.data(), png.size());
 }

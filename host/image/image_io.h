@@ -14,7 +14,8 @@ class AtomicFile;
 
 // Into an open AtomicFile, which the caller commits (several outputs of one
 // run are all written before any is renamed into place).
-void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba);
+// alpha: RGBA (straight alpha, the top byte), else RGB.
+void writePng(AtomicFile& f, int w, int h, const std::vector<uint32_t>& rgba, bool alpha = false);
 void writePfm(AtomicFile& f, int w, int h, int channels, const float* data);
 void writeIdsBin(AtomicFile& f, int w, int h, const std::vector<uint32_t>& idsBottomUp);
 void writeNpy(AtomicFile& f, int w, int h, int channels, const char* descr, const void* bottomUp);

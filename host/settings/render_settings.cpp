@@ -41,6 +41,11 @@ const std::pair<const char*, RasterMethod> kRaster[] = {
 const std::pair<const char*, TexFilter> kFilter[] = {
     {"nearest", TexFilter::Nearest}, {"bilinear", TexFilter::Bilinear}, {"trilinear", TexFilter::Trilinear},
     {"auto", TexFilter::Auto}};
+const std::pair<const char*, Transparency> kTransparency[] = {{"auto", Transparency::Auto},
+                                                              {"exact", Transparency::Exact},
+                                                              {"kbuffer", Transparency::KBuffer},
+                                                              {"weighted", Transparency::Weighted},
+                                                              {"sorted", Transparency::Sorted}};
 const std::pair<const char*, CullMode> kCull[] = {{"none", CullMode::None}, {"back", CullMode::Back}};
 const std::pair<const char*, PolygonMode> kPolygon[] = {
     {"fill", PolygonMode::Fill}, {"line", PolygonMode::Line}, {"point", PolygonMode::Point}};
@@ -53,6 +58,8 @@ const char* toString(ShadingMode m) { return nameOf(m, kShading); }
 const char* toString(RasterMethod m) { return nameOf(m, kRaster); }
 const char* toString(TexFilter f) { return nameOf(f, kFilter); }
 const char* toString(CullMode c) { return nameOf(c, kCull); }
+const char* toString(Transparency t) { return nameOf(t, kTransparency); }
+Transparency parseTransparency(const std::string& s) { return parseEnum(s, kTransparency, "transparency method"); }
 ShadingMode parseShading(const std::string& s) { return parseEnum(s, kShading, "shading"); }
 RasterMethod parseRaster(const std::string& s) { return parseEnum(s, kRaster, "raster method"); }
 TexFilter parseFilter(const std::string& s) { return parseEnum(s, kFilter, "filter"); }
@@ -116,7 +123,7 @@ void put(std::string& s, T v) {
 // frames with different values of it would share a recording. The sizes below
 // (LP64) make the compiler point here when either struct changes.
 static_assert(sizeof(void*) != 8 || sizeof(PostSettings) == 40, "PostSettings changed: update settingsKey()");
-static_assert(sizeof(void*) != 8 || sizeof(RenderSettings) == 208, "RenderSettings changed: update settingsKey()");
+static_assert(sizeof(void*) != 8 || sizeof(RenderSettings) == 216, "RenderSettings changed: update settingsKey()");
 
 std::string settingsKey(const RenderSettings& rs) {
   std::string s;
@@ -125,7 +132,8 @@ std::string settingsKey(const RenderSettings& rs) {
                       (long long)rs.filter, (long long)rs.anisotropy, (long long)rs.raster, (long long)rs.wantDepth, (long long)rs.wantPrimId,
                       (long long)rs.wantNormals, (long long)rs.msaa, (long long)rs.ssaa, (long long)rs.reference,
                       (long long)rs.referenceGrid, (long long)rs.referenceSeed, (long long)rs.perspectiveCorrect,
-                      (long long)rs.polygon, (long long)rs.wireframe})
+                      (long long)rs.polygon, (long long)rs.wireframe, (long long)rs.transparency,
+                      (long long)rs.blendK})
     put(s, v);
   for (double v : {rs.ambient, rs.specular, rs.shininess, rs.background.x, rs.background.y, rs.background.z,
                    rs.background.w, rs.lineWidth, rs.pointSize})

@@ -19,6 +19,11 @@ enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel
 // bilinear otherwise.
 enum class TexFilter { Nearest, Bilinear, Trilinear, Auto };
 enum class RasterMethod { Auto, Naive, VisBuffer, Binned };
+// How glTF BLEND surfaces are composited (docs/transparency.md): every fragment
+// kept and sorted (exact), the k nearest exact and the rest merged (kbuffer),
+// weighted blended OIT (weighted), draws sorted by their centre's depth as
+// most engines do (sorted), or chosen from the scene's depth complexity (auto).
+enum class Transparency { Auto, Exact, KBuffer, Weighted, Sorted };
 // How triangles are drawn (glPolygonMode): filled, as their edges, or as their corners.
 enum class PolygonMode { Fill, Line, Point };
 // Triangle edges drawn over the filled triangles: always on top, or depth-tested
@@ -78,6 +83,8 @@ struct RenderSettings {
   Wireframe wireframe = Wireframe::Off;
   float lineWidth = 1.0f;  // pixels, 1..64 (1: diamond-exit rule; wider: parallelogram)
   float pointSize = 1.0f;  // pixels, 1..64 (square points)
+  Transparency transparency = Transparency::Auto;
+  int blendK = 8;  // kbuffer: fragments kept exact per sample (1..64)
 };
 
 // Every field's bytes, as one string: two settings give the same string
@@ -98,6 +105,8 @@ const char* toString(ShadingMode m);
 const char* toString(RasterMethod m);
 const char* toString(TexFilter f);
 const char* toString(CullMode c);
+const char* toString(Transparency t);
+Transparency parseTransparency(const std::string& s);
 // Parsers for the command line; throw Error on unknown names.
 ShadingMode parseShading(const std::string& s);
 RasterMethod parseRaster(const std::string& s);

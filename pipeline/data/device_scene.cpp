@@ -175,6 +175,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     d.vertDraw = uploadVec("scene.vertDraw", vertDraw);
   }
   d.uploadLinesAndPoints(s);
+  d.uploadAlphaDraws(s);
 
   std::vector<MaterialGPU> mats;
   for (const Material& m : s.materials) {
@@ -191,7 +192,7 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     g.occlusionStrength = m.occlusionStrength;
     g.emissive = m.emissive;
     g.flags = (m.unlit ? kMaterialUnlit : 0) | (m.doubleSided ? kMaterialDoubleSided : 0) |
-              (m.alphaMode == AlphaMode::Opaque ? kMaterialOpaque : 0);
+              (m.alphaMode != AlphaMode::Blend ? kMaterialOpaque : 0);  // MASK: opaque where the alpha test keeps it
     mats.push_back(g);
   }
   d.materials = uploadVec("scene.materials", mats);
@@ -279,7 +280,7 @@ size_t DeviceScene::bytes() const {
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
          viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) +
          viewBytes(srgbEncodePacked) + viewBytes(lines) + viewBytes(points) + viewBytes(skinJoints) + viewBytes(skinWeights) +
-         viewBytes(joints) + viewBytes(jointNormals);
+         viewBytes(joints) + viewBytes(jointNormals) + viewBytes(alphaDraws);
 }
 
 }  // namespace rast

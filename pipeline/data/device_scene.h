@@ -54,6 +54,11 @@ struct DeviceScene {
   // camera (Renderer::enqueue), or the vertex stage computes them.
   bool hostMvps() const { return numDraws <= kHostMatricesMaxDraws; }
   bool hasUV = false, hasColor = false, hasTextures = false;
+  // MASK and BLEND materials (docs/transparency.md): per draw its class and
+  // cutoff, uploaded only when some drawn primitive has one of them.
+  DView<AlphaDraw> alphaDraws;
+  bool hasMask = false, hasBlend = false;
+  bool hasAlphaClasses() const { return hasMask || hasBlend; }
 
   static DeviceScene upload(const Scene& scene);
   // A new pose of the same scene (host/scene/animation.h: poseScene): the
@@ -61,6 +66,7 @@ struct DeviceScene {
   // vertices, copied into the buffers the scene already has (no allocation).
   void updatePose(const Scene& scene);
   void uploadLinesAndPoints(const Scene& scene);  // core/device_lines.cpp
+  void uploadAlphaDraws(const Scene& scene);      // device_alpha.cpp
   // (Re)uploads the textures, with full mipmap pyramids when asked (built on
   // the host with sRGB-correct 2x2 averaging). Trilinear filtering needs them;
   // other filters do not pay for them.

@@ -7,7 +7,7 @@ namespace rast {
 size_t FrameBuffers::bytes() const {
   return viewBytes(uploaded) + viewBytes(clip) + viewBytes(snap) + viewBytes(worldPos) + viewBytes(worldNormal) + viewBytes(chunkOffset) + viewBytes(chunkBlocks) + viewBytes(setupStatus) + viewBytes(clipCount) + viewBytes(clipBlocks) +
          viewBytes(tris) + viewBytes(workOffset) + viewBytes(workHint) + viewBytes(blockDepth) + viewBytes(blockFrame) + viewBytes(occCount) + viewBytes(occStart) + viewBytes(occTri) + viewBytes(work) + viewBytes(tileStart) + viewBytes(accum) + viewBytes(counters) + viewBytes(vis) +
-         viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes();
+         viewBytes(color) + viewBytes(depth) + viewBytes(primId) + viewBytes(normal) + lines.bytes() + post.bytes() + blend.bytes();
 }
 
 }  // namespace rast

@@ -6,6 +6,7 @@
 #include "pipeline/data/device_scene.h"
 #include "pipeline/data/gpu_types.h"
 #include "pipeline/data/post_buffers.h"
+#include "pipeline/data/blend_buffers.h"
 #include "pipeline/data/line_pass.h"
 
 namespace rast {
@@ -80,6 +81,7 @@ struct FrameBuffers {
   bool visClear = false;
   Kokkos::View<uint64_t, Mem> sumArea, maxArea, occArea;  // raster statistics for RasterMethod::Auto
   LineFrame lines;           // the point/line pass (pipeline/raster/raster_lines.h)
+  BlendBuffers blend;        // MASK and BLEND passes (pipeline/blend/), only for scenes that have them
 
   // shade: colour and the AOVs; post: the film
   DView<uint32_t> color;     // per pixel: sRGB RGBA8

@@ -52,6 +52,16 @@ struct PunctualGPU {
   float lightAngleScale, lightAngleOffset;  // spot: cone smoothing (KHR_lights_punctual's recommended form)
 };
 
+// A draw of a scene with MASK or BLEND materials (docs/transparency.md): its
+// alpha class (AlphaClass, raster_rules.h: opaque, mask, blend), the mask's
+// cutoff, and the centre of its primitive's bounding box in object space (the
+// `sorted` transparency orders draws by its depth).
+struct AlphaDraw {
+  int32_t cls;
+  float cutoff;
+  float3 centre;
+};
+
 struct TextureGPU {
   uint32_t offset;  // first texel of level 0 in the shared texel buffer
   int32_t width, height, wrapS, wrapT;

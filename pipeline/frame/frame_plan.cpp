@@ -31,6 +31,20 @@ RasterMethod chooseMethod(const RenderSettings& rs, const AutoStats& stats) {
   return kPreferVisBuffer ? RasterMethod::VisBuffer : RasterMethod::Binned;
 }
 
+Transparency chooseTransparency(const RenderSettings& rs, bool fallback) {
+  switch (rs.transparency) {
+    case Transparency::Weighted:
+    case Transparency::KBuffer:
+      return rs.transparency;
+    case Transparency::Exact:
+    case Transparency::Sorted:
+      return fallback ? Transparency::KBuffer : rs.transparency;
+    case Transparency::Auto:
+      break;
+  }
+  return fallback ? Transparency::KBuffer : Transparency::Exact;
+}
+
 namespace {
 
 // The visbuffer's occluder pass (raster_visbuffer.cpp) pays where large
@@ -76,9 +90,15 @@ ShadeParams shadeParamsFor(const RenderSettings& rs, const FrameBuffers& f, cons
   sp.shadeRun = testHooks().shadeRun;
   // Raw modes keep the direct path's background bytes.
   sp.backgroundFilm = isRawShading(rs.shading) ? unpackRaw8(sp.backgroundPacked) : rs.background;
+  if (rs.background.w < 1.0f) {  // premultiplied, as the film holds colour
+    const float a = rs.background.w > 0.0f ? rs.background.w : 0.0f;
+    sp.background = float4{rs.background.x * a, rs.background.y * a, rs.background.z * a, a};
+    sp.backgroundFilm = float4{sp.backgroundFilm.x * a, sp.backgroundFilm.y * a, sp.backgroundFilm.z * a, a};
+  }
   // Only the visbuffer or naive raster wrote keys this frame, one sample per
   // pixel: blocks they did not tag hold clear keys.
-  sp.blockFrames = p.tagsBlocks && p.samples == 1 && p.lines.lineItems() + p.lines.pointItems() == 0;
+  // (The MASK pass writes keys too, and tags nothing.)
+  sp.blockFrames = p.tagsBlocks && p.samples == 1 && p.lines.lineItems() + p.lines.pointItems() == 0 && !p.blend.mask;
   return sp;
 }
 
@@ -107,12 +127,21 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // The float film: when a post pass or an HDR output needs it, and for every
   // pass of a supersampled frame (resolved in float).
   p.film = rs.post.needsFloat() || in.supersampling;
+  // MASK and BLEND triangles (filled only): their passes, and BLEND's
+  // compositing in linear light on the film.
+  p.blend.mask = in.scene->hasMask && p.fill;
+  p.blend.blend = in.scene->hasBlend && p.fill;
+  p.blend.method = chooseTransparency(rs, in.blendFallback);
+  p.blend.k = rs.blendK;
+  // A transparent background (alpha < 1): the film keeps alpha, premultiplied.
+  p.film = p.film || p.blend.blend || rs.background.w < 1.0f;
   p.lines = makeLinePass(*in.scene, rs);
   p.shadeParams = shadeParamsFor(rs, f, p);
   // On the CPU the binned raster can shade each tile as it finishes: the
   // shade stage's time is then part of the raster's.
   const bool linesOrPoints = p.lines.lineItems() + p.lines.pointItems() > 0;
-  if (p.method == RasterMethod::Binned && p.fill && !in.keepKeys && fusedBinnedShadeUsable(f, p.shadeParams, linesOrPoints))
+  if (p.method == RasterMethod::Binned && p.fill && !in.keepKeys && !p.blend.mask && !p.blend.blend &&
+      fusedBinnedShadeUsable(f, p.shadeParams, linesOrPoints))
     p.shade = ShadePath::FusedBinned;
   else if (spanShadeUsable(f, p.shadeParams))
     p.shade = ShadePath::Spans;
@@ -123,7 +152,8 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // recorded frame is replayed only under the same key (frame_graphs.h).
   p.key = settingsKey(rs) + testHooks().key();
   for (uint64_t v : {uint64_t(p.method), uint64_t(p.autoStats), uint64_t(p.occluders), uint64_t(p.rowLanes),
-                     uint64_t(f.visClear), uint64_t(in.supersampling), uint64_t(f.triCapacity), uint64_t(f.workCapacity)})
+                     uint64_t(f.visClear), uint64_t(in.supersampling), uint64_t(f.triCapacity), uint64_t(f.workCapacity),
+                     uint64_t(p.blend.method), f.blend.fragCapacity})
     p.key.append(reinterpret_cast<const char*>(&v), sizeof v);
   return p;
 }

@@ -12,6 +12,7 @@
 // switch and in chooseMethod below (the compiler warns of a missing case).
 #pragma once
 
+#include "pipeline/blend/blend.h"
 #include "pipeline/geometry/geometry.h"
 
 #include "pipeline/cpu/cpu_shade.h"
@@ -57,6 +58,7 @@ struct FramePlan {
   ShadePath shade = ShadePath::Pixels;
   LinePass lines;             // the point/line pass
   ShadeParams shadeParams{};
+  BlendPlan blend;            // MASK and BLEND passes (pipeline/blend/)
   std::string key;            // every value the launches depend on (frame graphs)
 };
 
@@ -71,8 +73,14 @@ struct PlanInputs {
   AutoStats stats;
   bool statsDue = false;       // auto: this frame runs the statistics pass
   bool supersampling = false;  // a pass of a supersampled frame: film, no post chain
+  bool blendFallback = false;  // the exact fragment store would exceed the memory budget: kbuffer
   bool keepKeys = false;       // a split frame (renderer.h): keys are exchanged before shading, never fused
 };
+
+// The transparency method a frame uses (never Auto): `auto` takes exact (the
+// fragment store sized to the frame's need), and kbuffer once the store
+// would exceed the memory budget; so do exact and sorted.
+Transparency chooseTransparency(const RenderSettings& rs, bool fallback);
 
 FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in);
 

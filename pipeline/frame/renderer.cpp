@@ -6,6 +6,7 @@
 
 #include "backends/frame_graphs.h"
 #include "backends/stage_timer.h"
+#include "pipeline/blend/blend.h"
 #include "host/scene/memory_budget.h"
 #include "pipeline/cpu/cpu_shade.h"
 #include "pipeline/geometry/geometry.h"
@@ -108,7 +109,13 @@ void Renderer::checkFrameBudget(const RenderSettings& rs) const {
   if (rs.wantPrimId) perPixel += 4;
   if (rs.wantNormals) perPixel += 12;
   if (super) perPixel += sizeof(float4);                           // supersampling accumulator
-  if (super || rs.post.needsFloat()) perPixel += sizeof(float4);   // the float film
+  if (super || rs.post.needsFloat() || scene_.hasBlend) perPixel += sizeof(float4);   // the float film
+  if (scene_.hasBlend) {  // the transparency method's fixed buffers (its fragment store: lastFrameFit)
+    BlendPlan b;
+    b.method = chooseTransparency(rs, blendFallback_);
+    b.k = rs.blendK;
+    perPixel += uint64_t(msaa) * blendBytesPerSample(b);
+  }
   if (rs.post.ssao) perPixel += sizeof(float4) + 3 * sizeof(float);  // geometry, depth, AO and its blur
   uint64_t frame = mulSat(n, perPixel);
   // Bloom: two half-resolution float films.
@@ -148,9 +155,10 @@ void Renderer::prepare(const RenderSettings& rs) {
     frame_.normal = DView<float3>();
     frame_.accum = DView<float4>();
     frame_.post.release();
+    frame_.blend.release();
   }
   if (!supersampling_)
-    frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference, rs.post.ssao, rs.post.bloom);
+    frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference || scene_.hasBlend, rs.post.ssao, rs.post.bloom);
   // Mipmaps are built the first time a frame needs them.
   const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel ||
                         (rs.filter == TexFilter::Auto && rs.shading == ShadingMode::Pbr);
@@ -236,6 +244,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   in.stats = autoStats_;
   in.statsDue = statsDue;
   in.supersampling = supersampling_;
+  in.blendFallback = blendFallback_;
   in.keepKeys = split_ != nullptr;
   plan_ = planFrame(rs, in);
   plan_.shadeParams.useEnv = rs.shading == ShadingMode::Pbr && rs.environment != "none" && env_.valid() ? 1 : 0;
@@ -296,6 +305,10 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
       rasterVisBuffer(frame_, plan.occluders, plan.rowLanes);
       break;
   }
+  // MASK triangles after the method's (binned writes every pixel), with the
+  // same keys: their passes read the work lists of both alpha classes.
+  if (plan.blend.mask || plan.blend.blend) alphaWorkLists(scene_, frame_, plan.blend);
+  if (plan.blend.mask) rasterMask(scene_, frame_, plan.shadeParams);
   // Points and lines after the triangles: binned writes every pixel. Keys
   // were written (the fused path writes none); shading may clear them.
   if (!fused) {
@@ -305,6 +318,13 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("raster");
   if (split_) split_->afterRaster(scene_, frame_, plan, lights_, timer);  // marks "composite"
+  // BLEND fragments in front of the opaque depth, before shading clears it.
+  if (plan.blend.blend) {
+    Kokkos::Profiling::pushRegion("rast::blend");
+    blendCollect(scene_, frame_, plan.shadeParams, lights_, plan.blend);
+    Kokkos::Profiling::popRegion();
+    if (timer) timer->mark("blend");
+  }
 
   Kokkos::Profiling::pushRegion("rast::shade");
   switch (plan.shade) {
@@ -315,6 +335,12 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("shade");
   if (split_) split_->afterShade(scene_, frame_, plan, lights_, timer);  // marks "merge"
+  if (plan.blend.blend) {
+    Kokkos::Profiling::pushRegion("rast::blend");
+    blendResolve(scene_, frame_, plan.shadeParams, lights_, plan.blend);
+    Kokkos::Profiling::popRegion();
+    if (timer) timer->mark("blend_resolve");
+  }
 }
 
 void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
@@ -325,7 +351,8 @@ void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* 
   v.tanX = float(1.0 / proj[0][0]);
   v.tanY = float(1.0 / proj[1][1]);
   v.ssaoRadius = ssaoRadiusFor(rs.post, glm::length(cam.eye - cam.target));
-  runPostChain(frame_.post, v, rs.post, frame_.color, scene_.srgbEncodePacked, isRawShading(rs.shading), timer);
+  runPostChain(frame_.post, v, rs.post, frame_.color, scene_.srgbEncodePacked, isRawShading(rs.shading), timer,
+               rs.background.w < 1.0f);
 }
 
 bool Renderer::lastFrameFit(FrameStats* stats) {
@@ -357,6 +384,33 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     frame_.triCapacity = need + need / 8;
     frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
     fit = false;
+  }
+  // The exact store of BLEND fragments: grown to the frame's need, or, when
+  // that would exceed the budget, the frame is drawn with kbuffer instead
+  // (FrameStats::blendFallback says so).
+  if (fit && plan_.blend.blend) {
+    auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.blend.totals);
+    const bool stored = plan_.blend.method == Transparency::Exact || plan_.blend.method == Transparency::Sorted;
+    if (stored) blendNeed_ = t(kBlendFrags);
+    if (stats) {
+      stats->blendFragments = blendNeed_;  // kbuffer and weighted count none: the last store's need
+      stats->blendMaxDepth = t(kBlendMaxDepth);
+      stats->transparency = plan_.blend.method;
+      stats->blendFallback = blendFallback_;
+    }
+    if (stored && t(kBlendFrags) > frame_.blend.fragCapacity) {
+      const uint64_t need = t(kBlendFrags) + t(kBlendFrags) / 8;
+      MemoryLedger ledger(budget_);
+      ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.blend.frags));
+      if (need < (uint64_t(1) << 32) && addSat(ledger.used(), mulSat(need, kBytesPerFragment)) <= ledger.limit()) {
+        frame_.blend.frags = DView<uint64_t>();
+        frame_.blend.fragCapacity = need;
+        frame_.blend.frags = allocUninit<uint64_t>("blend.frags", need);
+      } else {
+        blendFallback_ = true;
+      }
+      fit = false;
+    }
   }
   // The binned method's list has its own capacity (its count is only valid
   // when every raster triangle was kept).

@@ -32,6 +32,12 @@ struct FrameStats {
   size_t deviceBytes = 0;     // scene + frame buffers
   size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)
   size_t filmBytes = 0;       // the float film and post buffers (0 when no float path ran)
+  // BLEND surfaces (docs/transparency.md): the method used, whether the exact
+  // store would have exceeded the memory budget (then kbuffer was used), the
+  // fragments stored and the most of one sample (exact and sorted).
+  Transparency transparency = Transparency::Exact;
+  bool blendFallback = false;
+  uint64_t blendFragments = 0, blendMaxDepth = 0;
 };
 
 // A frame split by geometry (sort-last, pipeline/distributed/): several
@@ -147,7 +153,9 @@ class Renderer {
   uint32_t autoFrames_ = 0;
   uint32_t frameNumber_ = 0;  // FrameUniforms::frame of the last frame
   std::vector<mat4f> upload_;  // the frame's upload (FrameUniforms, draws' MVPs), host side
-  bool supersampling_ = false;  // inside renderSupersampled: passes shade to the film, no post chain
+  bool supersampling_ = false;
+  bool blendFallback_ = false;  // the exact fragment store would exceed the budget: kbuffer (lastFrameFit)
+  uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame stored  // inside renderSupersampled: passes shade to the film, no post chain
   std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
 
   AutoStats autoStats_;  // what `auto` decides from (frame_plan.h)

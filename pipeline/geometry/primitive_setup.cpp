@@ -51,16 +51,21 @@ struct SetupCommon {
   Viewport vp;
   float gx, gy;
   int32_t cullBack;  // CullFaces: 0 none, 1 every back face, 2 those of single-sided materials
+  // Scenes with MASK or BLEND materials: each draw's AlphaDraw (DeviceScene::alphaDraws),
+  // whose triangles the setup marks (markAlphaClass); unread otherwise.
+  DView<AlphaDraw> alphaDraws;
+  int32_t alphaScene = 0;
 
-  // Drawn-vertex indices of drawn triangle t's corners, its front winding and
-  // whether its back faces are culled.
-  KOKKOS_INLINE_FUNCTION void corners(uint32_t t, uint32_t (&vi)[3], bool& frontCCW, bool& cull) const {
+  // Drawn-vertex indices of drawn triangle t's corners, its front winding,
+  // whether its back faces are culled, and its alpha class.
+  KOKKOS_INLINE_FUNCTION void corners(uint32_t t, uint32_t (&vi)[3], bool& frontCCW, bool& cull, int32_t& cls) const {
     const uint32_t d = drawOf(triDraw, drawTriStart, numDraws, t);
     const DrawGPU& dr = draws(d);
     const uint32_t base = 3 * (dr.srcTri + (t - dr.dstTri));
     for (int k = 0; k < 3; ++k) vi[k] = dr.dstVertex + indices(base + k);
     frontCCW = dr.mirrored == 0;
     cull = cullBack == 1 || (cullBack == 2 && dr.singleSided);
+    cls = alphaScene ? alphaDraws(d).cls : int32_t(kAlphaOpaque);
   }
 
   // Clips drawn triangle t (corners vi) into a convex polygon and sets up its
@@ -68,7 +73,7 @@ struct SetupCommon {
   // returns how many did. kDepth: the pieces' depths are wanted (not when
   // only counting), from the drawn triangle's plane (depth_plane.h).
   template <bool kDepth, class Emit>
-  KOKKOS_INLINE_FUNCTION uint32_t clipAndSetUp(uint32_t t, const uint32_t (&vi)[3], bool frontCCW, bool cull,
+  KOKKOS_INLINE_FUNCTION uint32_t clipAndSetUp(uint32_t t, const uint32_t (&vi)[3], bool frontCCW, bool cull, int32_t cls,
                                                Emit&& emit) const {
     ClipVert poly[kMaxClipVerts];
     for (int k = 0; k < 3; ++k) poly[k].p = clip(vi[k]);
@@ -82,6 +87,7 @@ struct SetupCommon {
       RasterTri rt;
       if (!setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cull, frontCCW, t, rt)) continue;
       if (kDepth) depthFromPlane(rt, plane);
+      if (cls != kAlphaOpaque) markAlphaClass(rt, cls);
       emit(rt);
       ++k;
     }
@@ -115,7 +121,8 @@ KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, 
                                          const uint32_t* clipBlocks = nullptr) {
   uint32_t vi[3];
   bool frontCCW, cull;
-  c.corners(t, vi, frontCCW, cull);
+  int32_t cls;
+  c.corners(t, vi, frontCCW, cull, cls);
   SnapVert s[3];
   uint32_t any = 0, all = ~0u;
   for (int k = 0; k < 3; ++k) {
@@ -136,6 +143,7 @@ KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, 
       depthAtSnappedCorners(out, rx, ry);
     }
     if (!finishTriangle(c.vp, cull, frontCCW, t, out)) return 0;
+    if (cls != kAlphaOpaque) markAlphaClass(out, cls);
     uint32_t bw;
     if (blocks) *blocks = visBlocksOf(out, bw);
     return 1;
@@ -153,7 +161,7 @@ KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, 
     if (blocks && clipBlocks) *blocks = clipBlocks[t];
     return clipCounts[t];
   }
-  return c.clipAndSetUp<false>(t, vi, frontCCW, cull, [&](const RasterTri& piece) {
+  return c.clipAndSetUp<false>(t, vi, frontCCW, cull, cls, [&](const RasterTri& piece) {
     uint32_t bw;
     if (blocks) *blocks += visBlocksOf(piece, bw);
   });
@@ -428,8 +436,9 @@ struct WriteChunks {
       }
       uint32_t vi[3];
       bool frontCCW, cull;
-      c.corners(first + i, vi, frontCCW, cull);
-      c.clipAndSetUp<true>(first + i, vi, frontCCW, cull, [&](const RasterTri& rt) {
+      int32_t cls;
+      c.corners(first + i, vi, frontCCW, cull, cls);
+      c.clipAndSetUp<true>(first + i, vi, frontCCW, cull, cls, [&](const RasterTri& rt) {
         if (o < capacity) {
           tris(o) = rt;
           uint32_t bw;
@@ -581,8 +590,9 @@ struct SetupChunksHost {
       }
       uint32_t vi[3];  // clipped (rare)
       bool frontCCW, cull;
-      c.corners(first + i, vi, frontCCW, cull);
-      c.clipAndSetUp<true>(first + i, vi, frontCCW, cull, emit);
+      int32_t cls;
+      c.corners(first + i, vi, frontCCW, cull, cls);
+      c.clipAndSetUp<true>(first + i, vi, frontCCW, cull, cls, emit);
     }
     if (!direct) {
       waitBase(chunk, tag, o, item);
@@ -667,7 +677,8 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool 
     occ = OccluderList{f.occCount.data(), f.occStart.data(), f.occTri.data(), f.triCapacity};
   }
   SetupCommon c{s.draws, s.drawTriStart, s.triDraw, s.indices, f.clip, f.snap, s.numDraws, f.vp,
-                guardBand(f.vp.width), guardBand(f.vp.height), int32_t(cull)};
+                guardBand(f.vp.width), guardBand(f.vp.height), int32_t(cull), s.alphaDraws,
+                s.hasAlphaClasses() ? 1 : 0};
   const int gpuTeamOnHost = testHooks().gpuSetupOnHostTeam;
   if (chunks > 0 && !kOnDevice && gpuTeamOnHost > 0) {
     launchSetup<false>(c, f, chunks, s.numTris, numberBlocks, gpuTeamOnHost, occ);

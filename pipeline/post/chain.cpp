@@ -22,7 +22,7 @@ const PostPass* postPasses(int& count) {
 }
 
 void runPostChain(PostBuffers& b, const PostView& v, const PostSettings& s, const DView<uint32_t>& color,
-                  const DView<uint32_t>& packed, bool raw, StageTimer* timer) {
+                  const DView<uint32_t>& packed, bool raw, StageTimer* timer, bool straight) {
   for (const PostPass& p : kPasses) {
     if (!p.enabled(s)) continue;
     Kokkos::Profiling::pushRegion(std::string("rast::post::") + p.name);
@@ -30,7 +30,7 @@ void runPostChain(PostBuffers& b, const PostView& v, const PostSettings& s, cons
     Kokkos::Profiling::popRegion();
     if (timer) timer->mark(p.name);
   }
-  postEncode(b.hdr, int64_t(v.width) * v.height, color, packed, raw);
+  postEncode(b.hdr, int64_t(v.width) * v.height, color, packed, raw, straight);
   if (timer) timer->mark("encode");
 }
 

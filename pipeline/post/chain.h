@@ -33,15 +33,17 @@ struct PostPass {
 const PostPass* postPasses(int& count);
 
 // Runs the enabled passes (marking each on the timer), then encodes the film
-// into `color`: sRGB8 for light, raw bytes for the diagnostic modes.
+// into `color`: sRGB8 for light, raw bytes for the diagnostic modes (straight:
+// the film's premultiplied alpha as straight alpha bytes).
 void runPostChain(PostBuffers& b, const PostView& v, const PostSettings& s, const DView<uint32_t>& color,
-                  const DView<uint32_t>& srgbEncodePacked, bool raw, StageTimer* timer);
+                  const DView<uint32_t>& srgbEncodePacked, bool raw, StageTimer* timer, bool straight = false);
 
 // The passes (one file each).
 void postSsao(PostBuffers& b, const PostView& v, const PostSettings& s);
 void postExposure(PostBuffers& b, const PostView& v, const PostSettings& s);
 void postBloom(PostBuffers& b, const PostView& v, const PostSettings& s);
 void postToneMap(PostBuffers& b, const PostView& v, const PostSettings& s);
-void postEncode(const DView<float4>& hdr, int64_t n, const DView<uint32_t>& color, const DView<uint32_t>& packed, bool raw);
+void postEncode(const DView<float4>& hdr, int64_t n, const DView<uint32_t>& color, const DView<uint32_t>& packed, bool raw,
+                bool straight = false);
 
 }  // namespace rast

@@ -66,6 +66,27 @@ KOKKOS_INLINE_FUNCTION SnapVert snapOrFlag(const float4 p, const Viewport& vp, f
 
 KOKKOS_INLINE_FUNCTION uint32_t snapCode(const SnapVert& s) { return s.invW > 0.0f ? 0u : uint32_t(-s.invW); }
 
+// The pixels of a counter-clockwise RasterTri's box: those with a sample point
+// x*256 + 128 + offset inside its corners' range (for a single sample: the
+// pixel centres inside the box), clamped to the viewport; empty when min > max.
+KOKKOS_INLINE_FUNCTION void pixelBox(const RasterTri& t, const Viewport& vp, int32_t& minX, int32_t& maxX,
+                                     int32_t& minY, int32_t& maxY) {
+  int32_t lx = t.x[0], hx = t.x[0], ly = t.y[0], hy = t.y[0];
+  for (int i = 1; i < 3; ++i) {
+    lx = t.x[i] < lx ? t.x[i] : lx; hx = t.x[i] > hx ? t.x[i] : hx;
+    ly = t.y[i] < ly ? t.y[i] : ly; hy = t.y[i] > hy ? t.y[i] : hy;
+  }
+  const SamplePattern& sp = vp.samples;
+  minX = floorDiv(lx - kSubHalf - sp.maxX + kSubOne - 1, kSubOne);
+  maxX = floorDiv(hx - kSubHalf - sp.minX, kSubOne);
+  minY = floorDiv(ly - kSubHalf - sp.maxY + kSubOne - 1, kSubOne);
+  maxY = floorDiv(hy - kSubHalf - sp.minY, kSubOne);
+  minX = minX < 0 ? 0 : minX;
+  minY = minY < 0 ? 0 : minY;
+  maxX = maxX > vp.width - 1 ? vp.width - 1 : maxX;
+  maxY = maxY > vp.height - 1 ? vp.height - 1 : maxY;
+}
+
 // Completes a RasterTri whose t.x, t.y, t.z, t.invW, t.bary hold the snapped
 // corners. Returns false when it is culled, degenerate after snapping, or
 // covers no pixel centre of the viewport.
@@ -84,24 +105,25 @@ KOKKOS_INLINE_FUNCTION bool finishTriangle(const Viewport& vp, bool cullBack, bo
   }
   const int64_t area2 = ccw ? area : -area;
   t.invArea = 1.0f / float(area2);
-  int32_t lx = t.x[0], hx = t.x[0], ly = t.y[0], hy = t.y[0];
-  for (int i = 1; i < 3; ++i) {
-    lx = t.x[i] < lx ? t.x[i] : lx; hx = t.x[i] > hx ? t.x[i] : hx;
-    ly = t.y[i] < ly ? t.y[i] : ly; hy = t.y[i] > hy ? t.y[i] : hy;
-  }
-  // Pixels with a sample point x*256 + 128 + offset inside [lx, hx] (for a
-  // single sample: the pixel centres inside the box).
-  const SamplePattern& sp = vp.samples;
-  t.minX = floorDiv(lx - kSubHalf - sp.maxX + kSubOne - 1, kSubOne);
-  t.maxX = floorDiv(hx - kSubHalf - sp.minX, kSubOne);
-  t.minY = floorDiv(ly - kSubHalf - sp.maxY + kSubOne - 1, kSubOne);
-  t.maxY = floorDiv(hy - kSubHalf - sp.minY, kSubOne);
-  t.minX = t.minX < 0 ? 0 : t.minX;
-  t.minY = t.minY < 0 ? 0 : t.minY;
-  t.maxX = t.maxX > vp.width - 1 ? vp.width - 1 : t.maxX;
-  t.maxY = t.maxY > vp.height - 1 ? vp.height - 1 : t.maxY;
+  pixelBox(t, vp, t.minX, t.maxX, t.minY, t.maxY);
   t.prim = prim;
   return t.minX <= t.maxX && t.minY <= t.maxY;
+}
+
+// Alpha classes (docs/transparency.md): the raster triangles of MASK and BLEND
+// materials are drawn by passes of their own (pipeline/blend/), not by the
+// raster methods. The setup marks them with an empty box, which every method
+// skips (no pixel, block, bin or occluder), holding the class in maxY; their
+// passes recompute the box with pixelBox.
+enum AlphaClass : int32_t { kAlphaOpaque = 0, kAlphaMask = 1, kAlphaBlend = 2 };
+KOKKOS_INLINE_FUNCTION void markAlphaClass(RasterTri& t, int32_t cls) {
+  t.minX = 0;
+  t.minY = 0;
+  t.maxX = -1;
+  t.maxY = -1 - cls;
+}
+KOKKOS_INLINE_FUNCTION int32_t alphaClassOf(const RasterTri& t) {
+  return t.maxX == -1 && t.minX == 0 && t.maxY < -1 ? -1 - t.maxY : int32_t(kAlphaOpaque);
 }
 
 KOKKOS_INLINE_FUNCTION void putCorner(RasterTri& t, int i, const SnapVert& s, float b1, float b2) {

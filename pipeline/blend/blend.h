@@ -1,0 +1,35 @@
+// The transparency stage's front (docs/transparency.md): the passes that draw
+// the raster triangles of glTF MASK and BLEND materials, which the setup marks
+// and the raster methods skip (markAlphaClass, raster_rules.h).
+//   * alphaWorkLists: each class's work items (8x8 blocks of its triangles' boxes).
+//   * rasterMask: MASK triangles alpha-tested per sample and depth-tested into
+//     the visibility buffer with the same keys and atomic minimum as the
+//     raster methods: a discarded fragment never wins, whatever the method.
+//   * blendCollect (before shading: it reads the opaque depth) and blendResolve
+//     (after it: composites over the shaded opaque colour in the float film).
+#pragma once
+
+#include "pipeline/shade/shade.h"
+
+namespace rast {
+
+// What a frame's transparency does, decided by the frame plan.
+struct BlendPlan {
+  bool mask = false, blend = false;          // the scene draws MASK / BLEND triangles
+  Transparency method = Transparency::Exact;  // never Auto
+  int k = 8;                                  // kbuffer
+};
+
+void alphaWorkLists(const DeviceScene& s, FrameBuffers& f, const BlendPlan& b);
+void rasterMask(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p);
+void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
+                  const BlendPlan& b);
+void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
+                  const BlendPlan& b);
+
+// Device bytes per sample of a method's fixed buffers (counts, k-buffer,
+// weighted sums), and per fragment of the exact store: for the memory budget.
+uint64_t blendBytesPerSample(const BlendPlan& b);
+constexpr uint64_t kBytesPerFragment = sizeof(uint64_t);
+
+}  // namespace rast

@@ -1,0 +1,199 @@
+// glTF alpha modes (docs/transparency.md): MASK fragments below the cutoff
+// lose the depth test in every raster method; BLEND layers composite in
+// linear light, exactly for `exact`, with each approximate method's failure
+// pinned to its bound; an opaque scene allocates nothing for them; a store
+// over the memory budget falls back to kbuffer and says so.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+
+#include "pipeline/frame/renderer.h"
+#include "scenes/procedural.h"
+#include "pipeline/data/test_hooks.h"
+#include "tests/support/test_support.h"
+
+using namespace rast;
+using namespace rast::test;
+
+namespace {
+
+RenderSettings small(int w = 96, int h = 54) {
+  RenderSettings rs;
+  rs.width = w;
+  rs.height = h;
+  rs.wantPrimId = true;
+  rs.wantDepth = true;
+  return rs;
+}
+
+// The linear film (bottom row first) of one frame.
+std::vector<float4> film(const Scene& s, RenderSettings rs, FrameStats* st = nullptr, uint64_t budget = 0) {
+  Renderer r(s, budget);
+  const FrameStats f = r.render(defaultCamera(s), rs);
+  if (st) *st = f;
+  return r.filmBottomUp();
+}
+
+double maxDiff(const std::vector<float4>& a, const std::vector<float4>& b) {
+  double m = 0.0;
+  for (size_t i = 0; i < a.size(); ++i)
+    m = std::max({m, std::fabs(double(a[i].x) - b[i].x), std::fabs(double(a[i].y) - b[i].y),
+                  std::fabs(double(a[i].z) - b[i].z)});
+  return m;
+}
+
+bool sameBits(const std::vector<float4>& a, const std::vector<float4>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float4)) == 0;
+}
+
+const Transparency kMethods[] = {Transparency::Exact, Transparency::Sorted, Transparency::KBuffer, Transparency::Weighted};
+
+}  // namespace
+
+TEST_CASE("MASK: fragments below the cutoff lose the depth test in every raster method", "[transparency][mask]") {
+  const Scene s = builtinScene("builtin:cutout");  // backdrop: triangles 1-2; the mask quad: 3-4
+  RenderSettings rs = small();
+  for (int msaa : {1, 4}) {
+    std::vector<uint32_t> first;  // ids are the first sample's: per sample count
+    for (RasterMethod m : allRasterMethods()) {
+      INFO(toString(m) << " msaa " << msaa);
+      rs.raster = m;
+      rs.msaa = msaa;
+      const Frame f = renderFrame(s, defaultCamera(s), rs);
+      // The quad spans x in [-2, 2] of [-3.68, 3.68]: pixels 22..73 of 96;
+      // its alpha runs 0 -> 1 left to right, the cutoff 0.5 at the middle.
+      const int y = rs.height / 2;
+      CHECK(f.id(30, y) <= 2);  // alpha about 0.15: discarded, the backdrop shows
+      CHECK(f.id(65, y) >= 3);  // alpha about 0.84: kept
+      CHECK(f.id(5, y) <= 2);
+      if (first.empty()) first = f.ids;
+      else CHECK(f.ids == first);
+    }
+  }
+  SECTION("the cutoff moves the edge") {
+    const Frame none = renderFrame(builtinScene("builtin:cutout?cutoff=1.01"), defaultCamera(s), small());
+    const Frame all = renderFrame(builtinScene("builtin:cutout?cutoff=0"), defaultCamera(s), small());
+    for (int x = 25; x < 70; ++x) {
+      CHECK(none.id(x, 27) <= 2);
+      CHECK(all.id(x, 27) >= 3);
+    }
+  }
+}
+
+TEST_CASE("BLEND: blue at alpha 0.5 over opaque red is (0.5, 0, 0.5) in linear light under every method",
+          "[transparency][blend]") {
+  const Scene s = builtinScene("builtin:layers?n=1&alpha=0.5&unlit=1");
+  for (Transparency t : kMethods) {
+    INFO(toString(t));
+    RenderSettings rs = small();
+    rs.shading = ShadingMode::Pbr;  // KHR_materials_unlit
+    rs.transparency = t;
+    const std::vector<float4> f = film(s, rs);
+    const float4 c = f[size_t(rs.height / 2) * rs.width + rs.width / 2];
+    const double tol = t == Transparency::Weighted ? 1e-6 : 0.0;
+    CHECK(std::fabs(c.x - 0.5) <= tol);
+    CHECK(c.y == 0.0f);
+    CHECK(std::fabs(c.z - 0.5) <= tol);
+  }
+}
+
+TEST_CASE("BLEND exact: the same bits under every raster method and sample count", "[transparency][blend]") {
+  const Scene s = builtinScene("builtin:layers?n=12&mixed=1&cross=1");
+  for (int msaa : {1, 4}) {
+    std::vector<float4> first;
+    std::vector<uint32_t> firstIds;
+    for (RasterMethod m : allRasterMethods()) {
+      INFO(toString(m) << " msaa " << msaa);
+      RenderSettings rs = small();
+      rs.msaa = msaa;
+      rs.raster = m;
+      rs.transparency = Transparency::Exact;
+      Renderer r(s);
+      r.render(defaultCamera(s), rs);
+      const std::vector<float4> f = r.filmBottomUp();
+      if (first.empty()) {
+        first = f;
+        firstIds = r.primIdsBottomUp();
+      } else {
+        CHECK(sameBits(f, first));
+        CHECK(r.primIdsBottomUp() == firstIds);  // ids are the opaque surface's
+      }
+    }
+  }
+}
+
+TEST_CASE("BLEND: each method's failure mode within its bound", "[transparency][blend]") {
+  RenderSettings rs = small();
+  auto with = [&](const char* scene, Transparency t, FrameStats* st = nullptr) {
+    RenderSettings q = rs;
+    q.transparency = t;
+    q.blendK = 4;
+    return film(builtinScene(scene), q, st);
+  };
+  SECTION("kbuffer equals exact bit for bit while layers <= k, and stays close beyond") {
+    CHECK(sameBits(with("builtin:layers?n=4&mixed=1", Transparency::KBuffer),
+                   with("builtin:layers?n=4&mixed=1", Transparency::Exact)));
+    const double e = maxDiff(with("builtin:layers?n=16&mixed=1", Transparency::KBuffer),
+                             with("builtin:layers?n=16&mixed=1", Transparency::Exact));
+    CHECK(e > 0.0);   // more layers than k: the rest is merged
+    CHECK(e < 0.05);  // behind four layers of alpha >= 0.2
+  }
+  SECTION("sorted equals exact for separate parallel layers, not for intersecting ones") {
+    CHECK(maxDiff(with("builtin:layers?n=8&mixed=1", Transparency::Sorted),
+                  with("builtin:layers?n=8&mixed=1", Transparency::Exact)) == 0.0);
+    CHECK(maxDiff(with("builtin:layers?n=8&mixed=1&cross=1", Transparency::Sorted),
+                  with("builtin:layers?n=8&mixed=1&cross=1", Transparency::Exact)) > 0.02);
+  }
+  SECTION("weighted: exact for layers of one colour, wrong with a strong layer in front") {
+    CHECK(maxDiff(with("builtin:layers?n=8&alpha=0.3", Transparency::Weighted),
+                  with("builtin:layers?n=8&alpha=0.3", Transparency::Exact)) < 1e-5);
+    CHECK(maxDiff(with("builtin:layers?n=8&mixed=1", Transparency::Weighted),
+                  with("builtin:layers?n=8&mixed=1", Transparency::Exact)) > 0.02);
+  }
+  SECTION("equal depths (coplanar layers) are ordered by primitive id: deterministic") {
+    CHECK(sameBits(with("builtin:layers?n=6&mixed=1&equal=1", Transparency::Exact),
+                   with("builtin:layers?n=6&mixed=1&equal=1&order=back", Transparency::Exact)));
+  }
+  SECTION("alpha outside [0, 1] is clamped") {
+    CHECK(sameBits(with("builtin:layers?n=2&alpha=7", Transparency::Exact),
+                   with("builtin:layers?n=2&alpha=1", Transparency::Exact)));
+    // Alpha 0: every fragment dropped; the image is the opaque backdrop's
+    // alone (drawn directly, without the film: the same bytes).
+    auto colour = [&](const char* scene) {
+      const Scene s = builtinScene(scene);
+      Renderer r(s);
+      r.render(defaultCamera(s), rs);
+      return r.colorTopDown();
+    };
+    CHECK(colour("builtin:layers?n=2&alpha=-3") == colour("builtin:layers?n=0"));
+  }
+}
+
+TEST_CASE("BLEND: a store over the memory budget falls back to kbuffer and says so", "[transparency][blend]") {
+  const Scene s = builtinScene("builtin:layers?n=64&alpha=0.2");
+  RenderSettings rs = small(320, 180);
+  rs.transparency = Transparency::Exact;
+  FrameStats big, tight;
+  film(s, rs, &big);
+  CHECK(big.transparency == Transparency::Exact);
+  CHECK(!big.blendFallback);
+  CHECK(big.blendFragments == uint64_t(320) * 180 * 64);  // every layer covers the frame
+  CHECK(big.blendMaxDepth == 64);
+  // 16 MiB hold the scene and the frame but not 3.7 million fragments (29 MB).
+  const std::vector<float4> f = film(s, rs, &tight, uint64_t(16) << 20);
+  CHECK(tight.blendFallback);
+  CHECK(tight.transparency == Transparency::KBuffer);
+  RenderSettings k = rs;
+  k.transparency = Transparency::KBuffer;
+  CHECK(maxDiff(f, film(s, k)) < 1e-5);  // the merged rest is summed with float atomics: any order
+}
+
+TEST_CASE("an opaque scene allocates nothing for transparency", "[transparency]") {
+  const Scene s = builtinScene("builtin:default");
+  Renderer r(s);
+  RenderSettings rs = small();
+  r.render(defaultCamera(s), rs);
+  CHECK(r.frameBuffers().blend.bytes() == 0);
+  CHECK(!r.scene().alphaDraws.data());
+}
