@@ -69,8 +69,9 @@ void printSceneInfo(const Scene& s, const std::string& source) {
                                      "occlusionTexture",  "emissive",                 "alphaMode MASK",
                                      "alphaMode BLEND",   "doubleSided",              "KHR_materials_unlit",
                                      "KHR_texture_transform"};
-  // What `--shading pbr` uses (pipeline/shade/pbr_shading.h); alpha modes are not yet drawn.
-  static const bool kHonoured[10] = {true, true, true, true, true, false, false, true, true, true};
+  // What `--shading pbr` uses (pipeline/shade/pbr_shading.h); MASK and BLEND
+  // are drawn by the alpha passes (pipeline/blend/, docs/transparency.md).
+  static const bool kHonoured[10] = {true, true, true, true, true, true, true, true, true, true};
   for (int k = 0; k < 10; ++k)
     if (f.materialUses[k])
       std::printf("  %-26s %u material%s: %s\n", kFeature[k], f.materialUses[k], f.materialUses[k] == 1 ? "" : "s",
