@@ -95,24 +95,11 @@ struct AlphaScene {
   }
 
   // The alpha at a point whose exact edge values are E0, E1, E2: the shade
-  // stage's perspective-correct barycentrics (Shade::baryFrom, the same
-  // arithmetic), the texture sampled nearest or bilinear (level 0).
+  // stage's perspective-correct barycentrics (drawnBarycentrics, one function
+  // for both), the texture sampled nearest or bilinear (level 0).
   KOKKOS_INLINE_FUNCTION float alphaAt(const AlphaTri& a, int64_t E0, int64_t E1, int64_t E2) const {
-    float w0 = float(E1) * a.invArea, w1 = float(E2) * a.invArea, w2 = float(E0) * a.invArea;
-    if (perspective) {
-      w0 *= a.invW[0];
-      w1 *= a.invW[1];
-      w2 *= a.invW[2];
-    }
-    const float sum = w0 + w1 + w2;
-    if (sum != 0.0f && isFinite(sum)) {
-      const float inv = 1.0f / sum;
-      w0 *= inv; w1 *= inv; w2 *= inv;
-    } else {
-      w0 = w1 = w2 = 1.0f / 3.0f;
-    }
-    const float b1 = w0 * a.corner[0][0] + w1 * a.corner[1][0] + w2 * a.corner[2][0];
-    const float b2 = w0 * a.corner[0][1] + w1 * a.corner[1][1] + w2 * a.corner[2][1];
+    float b1, b2;
+    drawnBarycentrics(E0, E1, E2, a.invArea, a.invW, a.corner, perspective != 0, b1, b2);
     const float b0 = 1.0f - b1 - b2;
     float alpha = a.alpha;
     if (a.textured) {

@@ -304,4 +304,29 @@ KOKKOS_INLINE_FUNCTION uint64_t visKey(float depth, uint32_t rasterIndex) {
 }
 constexpr uint64_t kClearKey = uint64_t(0x3f800000u) << 32;  // depth 1.0, no triangle
 
+// Barycentrics (b1, b2) in the drawn triangle at a point whose exact edge
+// values in a raster triangle are E0, E1, E2: screen-space weights, made
+// perspective-correct (attributes vary linearly in clip space, i.e. with
+// weight l_k / w_k), then mapped through the raster triangle's corners
+// (RasterTri::bary: clipping moved them). One function for the shade stage
+// and the alpha test (pipeline/blend/), so that both get the same bits.
+KOKKOS_INLINE_FUNCTION void drawnBarycentrics(int64_t E0, int64_t E1, int64_t E2, float invArea, const float (&invW)[3],
+                                              const float (&corner)[3][2], bool perspective, float& b1, float& b2) {
+  float w0 = float(E1) * invArea, w1 = float(E2) * invArea, w2 = float(E0) * invArea;
+  if (perspective) {
+    w0 *= invW[0];
+    w1 *= invW[1];
+    w2 *= invW[2];
+  }
+  const float sum = w0 + w1 + w2;
+  if (sum != 0.0f && isFinite(sum)) {
+    const float inv = 1.0f / sum;
+    w0 *= inv; w1 *= inv; w2 *= inv;
+  } else {
+    w0 = w1 = w2 = 1.0f / 3.0f;
+  }
+  b1 = w0 * corner[0][0] + w1 * corner[1][0] + w2 * corner[2][0];
+  b2 = w0 * corner[0][1] + w1 * corner[1][1] + w2 * corner[2][1];
+}
+
 }  // namespace rast

@@ -127,24 +127,7 @@ struct Shade {
   // The same from the exact edge values E0, E1, E2 at the point.
   KOKKOS_INLINE_FUNCTION void baryFrom(const TriFrag& t, int64_t E0, int64_t E1, int64_t E2, float& b0, float& b1,
                                        float& b2) const {
-    const float l0 = float(E1) * t.invArea;
-    const float l1 = float(E2) * t.invArea;
-    const float l2 = float(E0) * t.invArea;
-    float w0 = l0, w1 = l1, w2 = l2;
-    if (p.perspective) {
-      w0 *= t.invW[0];
-      w1 *= t.invW[1];
-      w2 *= t.invW[2];
-    }
-    const float sum = w0 + w1 + w2;
-    if (sum != 0.0f && isFinite(sum)) {
-      const float inv = 1.0f / sum;
-      w0 *= inv; w1 *= inv; w2 *= inv;
-    } else {
-      w0 = w1 = w2 = 1.0f / 3.0f;
-    }
-    b1 = w0 * t.corner[0][0] + w1 * t.corner[1][0] + w2 * t.corner[2][0];
-    b2 = w0 * t.corner[0][1] + w1 * t.corner[1][1] + w2 * t.corner[2][1];
+    drawnBarycentrics(E0, E1, E2, t.invArea, t.invW, t.corner, p.perspective != 0, b1, b2);
     b0 = 1.0f - b1 - b2;
   }
 
