@@ -3,22 +3,30 @@
 // out. Coverage, depth order and ids are the pipeline's own (the triangles'
 // x/w, y/w, z/w drawn with an identity camera); the perspective-correct
 // barycentrics and z/w are then computed per covered pixel from the caller's
-// clip-space vertices.
+// clip-space vertices. A Rasterizer keeps its renderer across calls, so the
+// caller's device data goes straight into the scene's buffers.
 #include "api/api_internal.h"
 
+#include "backends/device_index.h"
 #include "pipeline/frame/renderer.h"
+
+#include <limits>
 
 namespace rast {
 namespace lib {
 
-void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<const int32_t* [3]> tri, int width,
-               int height, View<float** [4]> out, View<int32_t**> ids) {
+namespace {
+
+void checkInputs(const ExecutionSpace& exec, const View<const float* [4]>& pos, const View<const int32_t* [3]>& tri,
+                 int width, int height, const View<float** [4]>& out, const View<int32_t**>& ids) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("rasterize: resolution " + std::to_string(width) + "x" + std::to_string(height) +
                 " is outside 1..16384 per side");
   if (out.extent(0) != size_t(height) || out.extent(1) != size_t(width) || ids.extent(0) != size_t(height) ||
       ids.extent(1) != size_t(width))
     throw Error("rasterize: output views must be [height][width][4] and [height][width]");
+  if (tri.extent(0) > size_t(std::numeric_limits<uint32_t>::max() - 2) / 3)
+    throw Error("rasterize: too many triangles (" + std::to_string(tri.extent(0)) + ")");
   const int64_t nv = int64_t(pos.extent(0)), nt = int64_t(tri.extent(0));
   exec.fence();
   // The first bad vertex and the first bad index (nv / nt*3 when none).
@@ -46,27 +54,65 @@ void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<cons
                 "): positions must be finite with w > 0 (near-plane clipping of clip-space input is not supported yet)");
   }
   if (badIndex < 3 * nt) {
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tri);
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(tri, badIndex / 3, Kokkos::ALL));
     throw Error("rasterize: triangle " + std::to_string(badIndex / 3) + " has index " +
-                std::to_string(h(badIndex / 3, badIndex % 3)) + ", outside 0.." + std::to_string(nv - 1));
+                std::to_string(h(badIndex % 3)) + ", outside 0.." + std::to_string(nv - 1));
   }
+}
+
+}  // namespace
+
+// The renderer of a context is made for a vertex count, a triangle count and
+// a size; its scene's positions and indices are then overwritten on the device
+// each call. Nothing in the renderer is derived from the positions at upload
+// (no bounds, no per-triangle data: pipeline/data/device_scene.h), so the
+// frame is the one a fresh renderer of the same triangles draws.
+struct Rasterizer::Impl {
+  std::unique_ptr<::rast::Renderer> renderer;
+  int64_t nv = -1, nt = -1;
+};
+
+Rasterizer::Rasterizer() : impl_(std::make_unique<Impl>()) {}
+Rasterizer::~Rasterizer() = default;
+Rasterizer::Rasterizer(Rasterizer&&) noexcept = default;
+Rasterizer& Rasterizer::operator=(Rasterizer&&) noexcept = default;
+
+void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<const int32_t* [3]> tri,
+                           int width, int height, View<float** [4]> out, View<int32_t**> ids) {
+  checkInputs(exec, pos, tri, width, height, out, ids);
+  const int64_t nv = int64_t(pos.extent(0)), nt = int64_t(tri.extent(0));
   if (nt == 0) {
     Kokkos::deep_copy(exec, out, 0.0f);
     Kokkos::deep_copy(exec, ids, -1);
     exec.fence();
     return;
   }
-
+  if (!impl_->renderer || impl_->nv != nv || impl_->nt != nt) {
+    // A placeholder mesh of the right counts (every triangle on vertex 0),
+    // uploaded once; the caller's data replaces it below.
+    impl_->renderer.reset();
+    const std::vector<float3> p0(size_t(nv), float3{0.0f, 0.0f, 0.0f}), n0(size_t(nv), float3{0.0f, 0.0f, 1.0f});
+    const std::vector<uint32_t> idx(size_t(3 * nt), 0u);
+    impl_->renderer = std::make_unique<::rast::Renderer>(meshScene(p0, &n0, nullptr, nullptr, idx, nullptr, {}));
+    impl_->nv = nv;
+    impl_->nt = nt;
+  }
   // The pipeline draws x/w, y/w, z/w with w = 1: the same window positions and
-  // the same depth order (z/w) as the clip-space input.
-  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pos);
-  auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tri);
-  std::vector<float3> p3(static_cast<size_t>(nv)), n3(static_cast<size_t>(nv), float3{0.0f, 0.0f, 1.0f});
-  for (int64_t i = 0; i < nv; ++i) p3[i] = float3{hp(i, 0) / hp(i, 3), hp(i, 1) / hp(i, 3), hp(i, 2) / hp(i, 3)};
-  std::vector<uint32_t> idx(static_cast<size_t>(3 * nt));
-  for (int64_t i = 0; i < 3 * nt; ++i) idx[i] = uint32_t(ht(i / 3, i % 3));
-  const ::rast::Scene scene = meshScene(p3, &n3, nullptr, nullptr, idx, nullptr, {});
-  ::rast::Renderer renderer(scene);
+  // the same depth order (z/w) as the clip-space input. The division rounds as
+  // the host's (IEEE, no contraction: docs/determinism.md), so every backend
+  // draws the same triangles.
+  const DeviceScene& ds = impl_->renderer->scene();
+  const auto positions = ds.positions;
+  const auto indices = ds.indices;
+  Kokkos::parallel_for(
+      "rast::api::positions_in", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, nv), KOKKOS_LAMBDA(const int64_t i) {
+        const float w = pos(i, 3);
+        positions(i) = float3{pos(i, 0) / w, pos(i, 1) / w, pos(i, 2) / w};
+      });
+  Kokkos::parallel_for(
+      "rast::api::indices_in", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, 3 * nt),
+      KOKKOS_LAMBDA(const int64_t i) { indices(i) = uint32_t(tri(i / 3, i % 3)); });
+  exec.fence();
   ::rast::Camera cam;
   cam.viewProjOverride = glm::dmat4(1.0);
   RenderSettings rs;
@@ -74,8 +120,8 @@ void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<cons
   rs.height = height;
   rs.shading = ShadingMode::Depth;
   rs.wantPrimId = true;
-  renderer.render(cam, rs);
-  const auto prim = renderer.frameBuffers().primId;
+  impl_->renderer->render(cam, rs);
+  const auto prim = impl_->renderer->frameBuffers().primId;
 
   Kokkos::parallel_for(
       "rast::api::barycentrics",
@@ -105,6 +151,13 @@ void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<cons
       });
   exec.fence();
 }
+
+void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<const int32_t* [3]> tri, int width,
+               int height, View<float** [4]> out, View<int32_t**> ids) {
+  Rasterizer().rasterize(exec, pos, tri, width, height, out, ids);
+}
+
+int deviceIndex() { return ::rast::deviceIndex(); }
 
 }  // namespace lib
 }  // namespace rast

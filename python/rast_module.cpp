@@ -1,10 +1,15 @@
 // The Python extension `rast._rast` (docs/python.md), over the public C++ API
 // (include/rast/rast.h) only. numpy buffers are wrapped as unmanaged Kokkos
-// Views, no copy; input checks and DLPack conversion happen in rast/__init__.py
+// Views, no copy; DLPack tensors (torch, CuPy, ...) on the library's device are
+// wrapped the same way, and outputs go back as DLPack arrays in the library's
+// memory (python/dlpack_arrays.h). Input checks happen in rast/__init__.py
 // first, and are repeated here where a bad buffer could crash. rast::Error
 // becomes ValueError. The module initialises Kokkos on import when its caller
-// has not, and finalises it at interpreter exit.
+// has not, and finalises it at interpreter exit when no array or context of
+// its own still holds Kokkos memory.
 #include <rast/rast.h>  // as a consumer of the installed package includes it
+
+#include "dlpack_arrays.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -15,6 +20,9 @@
 
 namespace py = pybind11;
 using namespace rast;
+using rast_python::Borrowed;
+using rast_python::DeviceArray;
+using rast_python::KokkosHold;
 
 namespace {
 
@@ -62,6 +70,53 @@ lib::Scene sceneFromArrays(py::handle pos, py::handle idx, py::handle nrm, py::h
   return lib::Scene::fromArrays(m);
 }
 
+// A frame's [H][W][3] output, top row first.
+DeviceArray topDown3(const View<const float** [3]>& v, const char* label) {
+  const int64_t h = int64_t(v.extent(0)), w = int64_t(v.extent(1));
+  auto a = DeviceArray::allocate<float>(label, {h, w, 3});
+  float* o = a.data<float>();
+  Kokkos::parallel_for(
+      "rast::python::frame_out_vec3", Kokkos::RangePolicy<ExecutionSpace>(0, h * w), KOKKOS_LAMBDA(const int64_t p) {
+        const int64_t y = p / w, x = p % w, src = h - 1 - y;
+        for (int k = 0; k < 3; ++k) o[3 * p + k] = v(src, x, k);
+      });
+  return a;
+}
+
+// The frame's outputs as arrays in the library's memory, top row first (the
+// frame keeps OpenGL's bottom-up rows), ids as int64 with -1 where empty.
+py::dict frameArrays(const lib::Frame& f, bool normals, bool barycentrics) {
+  const int64_t h = f.height, w = f.width;
+  auto color = DeviceArray::allocate<uint8_t>("rast::python::color", {h, w, 4});
+  auto depth = DeviceArray::allocate<float>("rast::python::depth", {h, w});
+  auto ids = DeviceArray::allocate<int64_t>("rast::python::ids", {h, w});
+  {
+    uint8_t* c = color.data<uint8_t>();
+    float* d = depth.data<float>();
+    int64_t* i = ids.data<int64_t>();
+    const auto fc = f.color, fi = f.primIds;
+    const auto fd = f.depth;
+    Kokkos::parallel_for(
+        "rast::python::frame_out", Kokkos::RangePolicy<ExecutionSpace>(0, h * w), KOKKOS_LAMBDA(const int64_t p) {
+          const int64_t y = p / w, x = p % w, src = h - 1 - y;
+          const uint32_t rgba = fc(src, x);
+          for (int k = 0; k < 4; ++k) c[4 * p + k] = uint8_t(rgba >> (8 * k));
+          d[p] = fd(src, x);
+          i[p] = int64_t(fi(src, x)) - 1;
+        });
+  }
+  py::dict out;
+  if (normals) out["normals"] = topDown3(f.normals, "rast::python::normals");
+  if (barycentrics) out["barycentrics"] = topDown3(f.barycentrics, "rast::python::barycentrics");
+  Kokkos::fence();
+  out["color"] = color;
+  out["depth"] = depth;
+  out["ids"] = ids;
+  out["triangles"] = f.trianglesIn;
+  out["method"] = f.method;
+  return out;
+}
+
 py::dict render(const lib::Scene& scene, const lib::Camera& cam, int width, int height, const std::string& shading,
                 const std::string& cull, const std::string& filter, const std::string& raster, const std::string& aa,
                 std::optional<std::array<float, 3>> background, bool normals, bool barycentrics) {
@@ -77,67 +132,68 @@ py::dict render(const lib::Scene& scene, const lib::Camera& cam, int width, int 
   s.normals = normals;
   s.barycentrics = barycentrics;
   lib::Renderer r(scene);
-  lib::Frame f;
+  const lib::Frame* f = nullptr;
   {
     py::gil_scoped_release nogil;
-    f = r.render(ExecutionSpace(), cam, s);
+    f = &r.render(ExecutionSpace(), cam, s);
   }
-  // Top row first, as images are stored (the frame keeps OpenGL's bottom-up rows).
-  const size_t h = size_t(f.height), w = size_t(f.width);
-  const auto fc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.color);
-  const auto fd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.depth);
-  const auto fi = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.primIds);
-  py::array_t<uint8_t> color({h, w, size_t(4)});
-  py::array_t<float> depth({h, w});
-  py::array_t<int64_t> ids({h, w});
-  for (size_t y = 0; y < h; ++y) {
-    const size_t src = h - 1 - y;
-    std::memcpy(color.mutable_data(y), &fc(src, 0), w * 4);
-    std::memcpy(depth.mutable_data(y), &fd(src, 0), w * sizeof(float));
-    int64_t* d = ids.mutable_data(y);
-    for (size_t x = 0; x < w; ++x) d[x] = int64_t(fi(src, x)) - 1;
-  }
-  py::dict out;
-  out["color"] = color;
-  out["depth"] = depth;
-  out["ids"] = ids;
-  if (normals) {
-    py::array_t<float> n({h, w, size_t(3)});
-    const auto fn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.normals);
-    for (size_t y = 0; y < h; ++y) std::memcpy(n.mutable_data(y), &fn(h - 1 - y, 0, 0), w * 3 * sizeof(float));
-    out["normals"] = n;
-  }
-  if (barycentrics) {
-    py::array_t<float> b({h, w, size_t(3)});
-    const auto fb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f.barycentrics);
-    for (size_t y = 0; y < h; ++y) std::memcpy(b.mutable_data(y), &fb(h - 1 - y, 0, 0), w * 3 * sizeof(float));
-    out["barycentrics"] = b;
-  }
-  out["triangles"] = f.trianglesIn;
-  out["method"] = f.method;
-  return out;
+  return frameArrays(*f, normals, barycentrics);
 }
 
-py::tuple rasterize(py::handle posH, py::handle triH, int height, int width) {
-  auto pos = checked<float>(posH, "pos", 2, 4);
-  auto tri = checked<int32_t>(triH, "tri", 2, 3);
+// A DeviceArray as a numpy array: a writable view of the same buffer in host
+// builds (numpy's own from_dlpack makes read-only ones), a copy in GPU builds.
+py::array toNumpy(const DeviceArray& a) {
+  const DLDataType t = a.dtype();
+  const py::dtype dt(std::string(t.code == kDLFloat ? "<f" : t.code == kDLInt ? "<i" : "<u") + std::to_string(t.bits / 8));
+  const std::vector<py::ssize_t> shape(a.shape().begin(), a.shape().end());
+  if (rast_python::libraryDevice().device_type == kDLCPU)
+    return py::array(dt, shape, a.data<void>(), a.keeper());
+  py::array host(dt, shape);
+  const size_t bytes = size_t(host.nbytes());
+  Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> dst(
+      static_cast<char*>(host.mutable_data()), bytes);
+  Kokkos::View<const char*, MemorySpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> src(a.data<const char>(), bytes);
+  Kokkos::deep_copy(dst, src);
+  return host;
+}
+
+// nvdiffrast's RasterizeCudaContext: a lib::Rasterizer kept across calls.
+struct RasterizeContext {
+  lib::Rasterizer rasterizer;
+  KokkosHold hold;
+};
+
+// A [N, width] input in the library's memory: the producer's buffer itself
+// when it is there already, else a copy of its host buffer.
+template <class T, int Width>
+View<const T* [Width]> inLibraryMemory(const Borrowed& b, int64_t rows) {
+  if (b.onLibraryDevice()) return View<const T* [Width]>(b.data<T>(), size_t(rows));
+  if (!b.onHost()) b.wrongDevice();
+  const HostView<const T* [Width]> host(b.data<T>(), size_t(rows));
+  return Kokkos::create_mirror_view_and_copy(MemorySpace(), host);
+}
+
+// pos [B,V,4] or [V,4] float32, tri [T,3] int32, any DLPack producers (numpy
+// arrays too). Returns (out [B,H,W,4] float32, ids [B,H,W] int32) as DLPack
+// arrays in the library's memory, rows bottom first as nvdiffrast's.
+py::tuple rasterize(RasterizeContext& ctx, py::handle posH, py::handle triH, int height, int width) {
   if (height < 1 || width < 1 || height > 16384 || width > 16384)
     throw py::value_error("resolution: (height, width) must be within 1..16384");
-  py::array_t<float> out({size_t(height), size_t(width), size_t(4)});
-  py::array_t<int32_t> ids({size_t(height), size_t(width)});
-  const HostView<const float* [4]> hp(pos.data(), size_t(pos.shape(0)));
-  const HostView<const int32_t* [3]> ht(tri.data(), size_t(tri.shape(0)));
-  const HostView<float** [4]> ho(out.mutable_data(), size_t(height), size_t(width));
-  const HostView<int32_t**> hi(ids.mutable_data(), size_t(height), size_t(width));
+  Borrowed pb(posH, "pos"), tb(triH, "tri");
+  const int pr = pb.check<float>({2, 3}, 4);
+  tb.check<int32_t>({2}, 3);
+  const int64_t batch = pr == 3 ? pb.dim(0) : 1, nv = pb.dim(pr - 2), nt = tb.dim(0);
+  const auto pos = inLibraryMemory<float, 4>(pb, batch * nv);
+  const auto tri = inLibraryMemory<int32_t, 3>(tb, nt);
+  auto out = DeviceArray::allocate<float>("rast::python::rasterize_out", {batch, height, width, 4});
+  auto ids = DeviceArray::allocate<int32_t>("rast::python::rasterize_ids", {batch, height, width});
   {
     py::gil_scoped_release nogil;
-    const auto p = Kokkos::create_mirror_view_and_copy(MemorySpace(), hp);
-    const auto t = Kokkos::create_mirror_view_and_copy(MemorySpace(), ht);
-    const auto o = Kokkos::create_mirror_view(MemorySpace(), ho);
-    const auto i = Kokkos::create_mirror_view(MemorySpace(), hi);
-    lib::rasterize(ExecutionSpace(), p, t, width, height, o, i);
-    Kokkos::deep_copy(ho, o);  // nothing to do where they are the same buffer (host builds)
-    Kokkos::deep_copy(hi, i);
+    const int64_t pixels = int64_t(height) * width;
+    for (int64_t b = 0; b < batch; ++b)
+      ctx.rasterizer.rasterize(ExecutionSpace(), View<const float* [4]>(pos.data() + b * nv * 4, size_t(nv)), tri,
+                               width, height, View<float** [4]>(out.data<float>() + b * pixels * 4, height, width),
+                               View<int32_t**>(ids.data<int32_t>() + b * pixels, height, width));
   }
   return py::make_tuple(out, ids);
 }
@@ -150,7 +206,9 @@ PYBIND11_MODULE(_rast, m) {
     if (!std::getenv("OMP_PROC_BIND")) setenv("OMP_PROC_BIND", "false", 0);  // as the CLI (app/guarded_main.cpp)
     Kokkos::initialize();
     py::module_::import("atexit").attr("register")(py::cpp_function([] {
-      if (Kokkos::is_initialized()) Kokkos::finalize();
+      // Arrays and contexts still alive are freed after this hook, and Kokkos
+      // aborts on a view freed after finalize: then the process ends without it.
+      if (Kokkos::is_initialized() && rast_python::liveKokkosObjects() == 0) Kokkos::finalize();
     }));
   }
   py::register_exception_translator([](std::exception_ptr p) {
@@ -185,6 +243,30 @@ PYBIND11_MODULE(_rast, m) {
       .def_readwrite("view_projection", &lib::Camera::viewProjection)
       .def_static("framing", &lib::Camera::framing, py::arg("scene"), py::arg("fovy") = 45.0)
       .def("flags", &lib::Camera::flags);
+
+  m.attr("device_index") = lib::deviceIndex();
+
+  py::class_<DeviceArray>(m, "DeviceArray",
+                          "an output array in the library's memory (the GPU's in GPU builds), shared through DLPack: "
+                          "torch.from_dlpack, numpy.from_dlpack (host builds) and cupy.from_dlpack take it without a copy")
+      .def("__dlpack__", [](const DeviceArray& a, py::args, py::kwargs) { return a.capsule(); })
+      .def("__dlpack_device__",
+           [](const DeviceArray&) {
+             const DLDevice d = rast_python::libraryDevice();
+             return py::make_tuple(int(d.device_type), d.device_id);
+           })
+      .def_property_readonly("shape", [](const DeviceArray& a) { return py::tuple(py::cast(a.shape())); })
+      .def_property_readonly("dtype", [](const DeviceArray& a) { return rast_python::describe(a.dtype()); })
+      .def("numpy", &toNumpy, "a numpy array: the same buffer in CPU builds, a copy in host memory in GPU builds")
+      .def("__repr__", [](const DeviceArray& a) {
+        std::string s = "rast.DeviceArray(shape=(";
+        for (size_t i = 0; i < a.shape().size(); ++i) s += (i ? ", " : "") + std::to_string(a.shape()[i]);
+        return s + "), dtype=" + rast_python::describe(a.dtype()) + ", backend=" + lib::backend() + ")";
+      });
+
+  py::class_<RasterizeContext>(m, "RasterizeContext",
+                               "buffers kept across rasterize calls, as nvdiffrast's RasterizeCudaContext")
+      .def(py::init<>());
 
   m.def("_render", &render);
   m.def("_rasterize", &rasterize);

@@ -66,6 +66,27 @@ int main(int argc, char** argv) {
     const rast::lib::Frame& g = second.render(exec, rast::lib::Camera::framing(builtin), s);
     check(g.trianglesIn > 0, "builtin:bigtri renders with its own camera");
 
+    // Clip-space triangles from the caller's own device views, drawn by a
+    // context kept across calls (nvdiffrast's dr.rasterize).
+    rast::View<float* [4]> clip("clip", 3);
+    rast::View<int32_t* [3]> tris("tris", 1);
+    auto hp = Kokkos::create_mirror_view(clip);
+    auto ht = Kokkos::create_mirror_view(tris);
+    const float corners[3][4] = {{-0.5f, -0.5f, 0.0f, 1.0f}, {0.5f, -0.5f, 0.0f, 1.0f}, {0.0f, 0.5f, 0.0f, 1.0f}};
+    for (int v = 0; v < 3; ++v) {
+      for (int k = 0; k < 4; ++k) hp(v, k) = corners[v][k];
+      ht(0, v) = v;
+    }
+    Kokkos::deep_copy(clip, hp);
+    Kokkos::deep_copy(tris, ht);
+    rast::View<float** [4]> out("out", 32, 32);
+    rast::View<int32_t**> rid("ids", 32, 32);
+    rast::lib::Rasterizer rasterizer;
+    rasterizer.rasterize(exec, clip, tris, 32, 32, out, rid);
+    rasterizer.rasterize(exec, clip, tris, 32, 32, out, rid);  // the same buffers again
+    auto hid = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rid);
+    check(hid(16, 16) == 0 && hid(1, 1) == -1, "rasterize: triangle 0 at the centre, -1 in the corner");
+
     bool threw = false;
     try {
       rast::lib::Scene::load("/no/such/file.glb");

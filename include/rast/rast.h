@@ -155,5 +155,27 @@ class Renderer {
 void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<const int32_t* [3]> tri, int width,
                int height, View<float** [4]> out, View<int32_t**> ids);
 
+// The same, as a context kept across calls (nvdiffrast's RasterizeCudaContext):
+// its renderer and buffers are made on the first call and reused while the
+// vertex and triangle counts and the size stay the same; the caller's
+// positions and triangles are then read on the device, with no copy through
+// the host. Waits for `exec` before reading and for the frame before returning.
+class Rasterizer {
+ public:
+  Rasterizer();
+  ~Rasterizer();
+  Rasterizer(Rasterizer&&) noexcept;
+  Rasterizer& operator=(Rasterizer&&) noexcept;
+  void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<const int32_t* [3]> tri, int width,
+                 int height, View<float** [4]> out, View<int32_t**> ids);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The GPU this library runs on (the execution space's device), -1 in host builds.
+int deviceIndex();
+
 }  // namespace lib
 }  // namespace rast

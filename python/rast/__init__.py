@@ -3,16 +3,59 @@ rasterize clip-space triangles as nvdiffrast's dr.rasterize does.
 
 Inputs may be numpy arrays, torch tensors or anything with __dlpack__; they
 are taken without a copy when they already have the dtype, layout and device
-this build needs, and refused with a clear exception otherwise.
+this build needs (host memory in CPU builds; the GPU's, or host memory copied
+over, in GPU builds), and refused with a clear exception otherwise. Outputs
+are made in the build's memory and shared through DLPack (rast.DeviceArray):
+numpy arrays in CPU builds, torch tensors for torch inputs, with no copy.
 """
 import numpy as np
 
-from ._rast import Camera, Scene, __version__, backend, on_device  # noqa: F401
+from ._rast import Camera, DeviceArray, RasterizeContext, Scene, __version__, backend, device_index, on_device  # noqa: F401
 from . import _rast
 
-__all__ = ["Camera", "Scene", "render", "rasterize", "backend", "on_device", "__version__"]
+__all__ = ["Camera", "DeviceArray", "RasterizeContext", "Scene", "render", "rasterize", "backend", "on_device",
+           "device_index", "__version__"]
 
 _DLPACK_CPU = 1
+_OUTPUTS = ("auto", "numpy", "torch", "dlpack")
+_default_context = None
+
+
+def _release_default_context():
+    """Frees the default context's device buffers before the module finalises Kokkos (atexit runs this first)."""
+    global _default_context
+    _default_context = None
+
+
+import atexit  # noqa: E402
+
+atexit.register(_release_default_context)
+
+
+def _context(context):
+    global _default_context
+    if context is not None:
+        if not isinstance(context, RasterizeContext):
+            raise TypeError(f"context: expected a rast.RasterizeContext, got {type(context).__name__}")
+        return context
+    if _default_context is None:
+        _default_context = RasterizeContext()
+    return _default_context
+
+
+def _output(a, output):
+    """An output DeviceArray as the caller asked: numpy (copied from the GPU in GPU builds), torch, or as it is."""
+    if output == "dlpack" or (output == "auto" and on_device):
+        return a
+    if output == "torch":
+        import torch
+        return torch.from_dlpack(a)
+    return a.numpy()  # writable, the same buffer in CPU builds; a host copy in GPU builds
+
+
+def _check_output(output):
+    if output not in _OUTPUTS:
+        raise ValueError(f"output: expected one of {', '.join(_OUTPUTS)}, got {output!r}")
 
 
 def _is_torch(x):
@@ -93,8 +136,8 @@ def _scene(scene):
 
 
 def render(scene=None, camera=None, size=(1920, 1080), shading="lambert", cull="none", filter="bilinear",
-           raster="auto", aa="none", background=None, normals=False, barycentrics=False):
-    """Renders one frame; returns a dict of numpy arrays, top row first:
+           raster="auto", aa="none", background=None, normals=False, barycentrics=False, output="auto"):
+    """Renders one frame; returns a dict of arrays, top row first:
     color [H,W,4] uint8 (sRGB), depth [H,W] float32 (window depth, 1 = empty),
     ids [H,W] int64 (triangle index in draw order, -1 = empty), normals
     [H,W,3] float32 (when normals=True), barycentrics [H,W,3] float32 (when
@@ -104,7 +147,10 @@ def render(scene=None, camera=None, size=(1920, 1080), shading="lambert", cull="
     scene: a glTF path, 'builtin:<name>', None (the default scene), a
     rast.Scene or a dict {positions, indices[, normals, uvs, colors,
     triangle_material, materials]}. camera: a rast.Camera; None frames the
-    scene as `rast render` does without camera flags."""
+    scene as `rast render` does without camera flags. output: "auto" (numpy
+    arrays in CPU builds, rast.DeviceArray on the GPU in GPU builds), "numpy",
+    "torch" (tensors on the build's device, no copy) or "dlpack"."""
+    _check_output(output)
     sc = _scene(scene)
     if camera is None:
         camera = Camera.framing(sc)
@@ -117,32 +163,75 @@ def render(scene=None, camera=None, size=(1920, 1080), shading="lambert", cull="
     bg = None if background is None else tuple(float(c) for c in background)
     if bg is not None and len(bg) != 3:
         raise ValueError("background: expected (r, g, b)")
-    return _rast._render(sc, camera, w, h, shading, cull, filter, raster, aa, bg, bool(normals), bool(barycentrics))
+    r = _rast._render(sc, camera, w, h, shading, cull, filter, raster, aa, bg, bool(normals), bool(barycentrics))
+    for k in ("color", "depth", "ids", "normals", "barycentrics"):
+        if k in r:
+            r[k] = _output(r[k], output)
+    return r
 
 
-def rasterize(pos, tri, resolution):
+def _producer(x, name, dtype, shapes):
+    """x checked (dtype, shape, contiguity, device) where it can be read here, as something with __dlpack__."""
+    if _is_torch(x):
+        if x.requires_grad:
+            x = x.detach()
+        want = str(np.dtype(dtype))
+        got = str(x.dtype).replace("torch.", "")
+        if got != want:
+            raise TypeError(f"{name}: expected dtype {want}, got {got}")
+        _check_shape(tuple(x.shape), name, shapes)
+        if not x.is_contiguous():
+            raise ValueError(f"{name}: the tensor is not contiguous (strides {tuple(x.stride())}); "
+                             f"pass {name}.contiguous()")
+        if x.device.type == "cuda":
+            if not on_device:
+                raise ValueError(f"{name}: the tensor is on device {x.device}; this rast build ({backend}) "
+                                 f"takes host memory: move it with .cpu()")
+            import torch
+            torch.cuda.current_stream(x.device).synchronize()  # its producer's work done before rast reads it
+        return x
+    if hasattr(x, "__dlpack__") and not isinstance(x, np.ndarray) and hasattr(x, "__dlpack_device__"):
+        dev = x.__dlpack_device__()
+        if int(dev[0]) != _DLPACK_CPU and not on_device:
+            raise ValueError(f"{name}: the tensor is on device {dev}; this rast build ({backend}) "
+                             f"takes host memory: move it with .cpu()")
+        if int(dev[0]) != _DLPACK_CPU:
+            return x  # checked by the module (python/dlpack_arrays.h)
+        _strict(x, name, dtype, shapes)
+        return x  # the producer itself: numpy's view of it is read-only, which numpy will not export again
+    a = _strict(x, name, dtype, shapes)
+    # numpy exports no read-only array through DLPack (it has no flag for it): those alone are copied.
+    return a if a.flags.writeable else a.copy()
+
+
+def _check_shape(shape, name, shapes):
+    if not any(len(shape) == len(s) and all(isinstance(w, str) or w == d for w, d in zip(s, shape)) for s in shapes):
+        want = " or ".join("[" + ",".join(str(w) for w in s) + "]" for s in shapes)
+        raise ValueError(f"{name}: expected shape {want}, got {list(shape)}")
+
+
+def rasterize(pos, tri, resolution, context=None, output="auto"):
     """nvdiffrast's dr.rasterize(glctx, pos, tri, resolution) on rast.
 
     pos: [B,V,4] or [V,4] float32 clip-space positions; tri: [T,3] int32;
     resolution: (height, width). Returns (out, ids): out [B,H,W,4] float32 =
     (u, v, z/w, triangle id + 1), zero where empty, rows bottom first like
     nvdiffrast's; ids [B,H,W] int32, the exact triangle index, -1 where empty.
-    torch tensors in give torch tensors out (sharing the numpy buffers)."""
-    torch_out = _is_torch(pos)
-    p = _strict(pos, "pos", np.float32, [("B", "V", 4), ("V", 4)])
-    t = _strict(tri, "tri", np.int32, [("T", 3)])
+    context: a rast.RasterizeContext whose buffers are reused across calls
+    (None: the module's own). output: "auto" (torch tensors for torch inputs,
+    numpy arrays for numpy inputs, else rast.DeviceArray), "numpy", "torch"
+    or "dlpack". Inputs already in the build's memory are read in place;
+    outputs are shared, not copied (numpy in GPU builds excepted)."""
+    _check_output(output)
+    torch_in = _is_torch(pos)
+    numpy_in = isinstance(pos, (np.ndarray, list, tuple))
+    p = _producer(pos, "pos", np.float32, [("B", "V", 4), ("V", 4)])
+    t = _producer(tri, "tri", np.int32, [("T", 3)])
     try:
         h, w = (int(v) for v in resolution)
     except (TypeError, ValueError):
         raise ValueError(f"resolution: expected (height, width), got {resolution!r}") from None
-    batch = p if p.ndim == 3 else p[None]
-    outs, ids = [], []
-    for b in range(batch.shape[0]):
-        o, i = _rast._rasterize(batch[b], t, h, w)
-        outs.append(o)
-        ids.append(i)
-    out, idv = np.stack(outs), np.stack(ids)
-    if torch_out:
-        import torch
-        return torch.from_numpy(out), torch.from_numpy(idv)
-    return out, idv
+    out, ids = _rast._rasterize(_context(context), p, t, h, w)
+    if output == "auto":
+        output = "torch" if torch_in else "numpy" if numpy_in or not on_device else "dlpack"
+    return _output(out, output), _output(ids, output)

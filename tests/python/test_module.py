@@ -197,7 +197,45 @@ class OnlyDlpack:
 
 o2, i2 = rast.rasterize(OnlyDlpack(pos), OnlyDlpack(tri), (RH, RW))
 check(np.array_equal(i2[0], ids) and np.array_equal(o2[0], o), "DLPack inputs give the same result")
-check(np.shares_memory(rast._to_numpy(OnlyDlpack(pos), "pos"), pos), "a DLPack CPU input is taken without a copy")
+dl = OnlyDlpack(pos)
+check(rast._producer(dl, "pos", np.float32, [("V", 4)]) is dl and rast._producer(pos, "pos", np.float32, [("V", 4)]) is pos,
+      "DLPack producers and numpy arrays go to the module as they are (read there in place, no copy)")
+
+# ---- outputs through DLPack: rast.DeviceArray, shared with numpy and torch without a copy
+od, idd = rast.rasterize(pos, tri, (RH, RW), output="dlpack")
+check(isinstance(idd, rast.DeviceArray) and idd.shape == (1, RH, RW) and idd.dtype == "int32"
+      and od.shape == (1, RH, RW, 4) and od.dtype == "float32", f"output='dlpack' gives DeviceArrays: {idd!r}")
+if not rast.on_device:
+    check(idd.__dlpack_device__() == (1, 0), "a CPU build's arrays are on DLPack's CPU device")
+    check(np.array_equal(np.from_dlpack(idd)[0], ids) and np.array_equal(np.from_dlpack(od)[0], o),
+          "numpy.from_dlpack reads them: the same ids and (u, v, z/w, id + 1)")
+    check(np.shares_memory(idd.numpy(), idd.numpy()) and idd.numpy().flags.writeable,
+          "DeviceArray.numpy() is a writable view of the same buffer, not a copy")
+check(np.array_equal(idd.numpy()[0], ids), "DeviceArray.numpy() holds the ids")
+nd = rast.render(None, size=(W, H), output="dlpack")
+check(isinstance(nd["ids"], rast.DeviceArray) and np.array_equal(nd["ids"].numpy(), out["ids"])
+      and np.array_equal(nd["color"].numpy(), out["color"]), "render(output='dlpack') gives the same frame")
+raises(ValueError, ["output", "dlpack"], rast.rasterize, pos, tri, (RH, RW), output="cupy")
+raises(TypeError, ["context"], rast.rasterize, pos, tri, (RH, RW), context="ctx")
+
+# ---- a context reused across calls (nvdiffrast's RasterizeCudaContext): its
+# scene is rewritten in place when the counts stay, rebuilt when they change;
+# every call draws what a fresh context draws.
+ctx = rast.RasterizeContext()
+moved = pos.copy()
+moved[:, 0] = -moved[:, 0] + 0.1 * moved[:, 3]  # mirrored and shifted: other pixels, same counts
+r1 = rast.rasterize(pos, tri, (RH, RW), context=ctx)
+r2 = rast.rasterize(moved, tri, (RH, RW), context=ctx)
+r3 = rast.rasterize(moved, tri[::-1].copy(), (RH, RW), context=ctx)
+f2 = rast.rasterize(moved, tri, (RH, RW), context=rast.RasterizeContext())
+f3 = rast.rasterize(moved, tri[::-1].copy(), (RH, RW), context=rast.RasterizeContext())
+check(np.array_equal(r1[1][0], ids) and np.array_equal(r1[0][0], o), "a context's first call == the module's")
+check(not np.array_equal(r2[1], r1[1]) and np.array_equal(r2[1], f2[1]) and np.array_equal(r2[0], f2[0]),
+      "new positions, same counts: the reused context == a fresh one")
+check(np.array_equal(r3[1], f3[1]) and np.array_equal(r3[0], f3[0]), "new triangles, same counts: == a fresh one")
+r4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=ctx)
+f4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=rast.RasterizeContext())
+check(r4[1].shape == (1, RH // 2, RW) and np.array_equal(r4[1], f4[1]), "other counts and size: rebuilt, == a fresh one")
 
 # ---- bad input: clear exceptions, never a crash
 raises(ValueError, ["pos", "shape"], rast.rasterize, pos[:, :3].copy(), tri, (RH, RW))
@@ -247,6 +285,16 @@ else:
     ot, it = rast.rasterize(tp, tt, (RH, RW))
     check(isinstance(ot, torch.Tensor) and torch.equal(it[0], torch.from_numpy(ids)), "torch tensors in and out")
     raises(ValueError, ["contiguous"], rast.rasterize, tp.t().contiguous().t(), tt, (RH, RW))
+    raises(TypeError, ["pos", "float32", "float64"], rast.rasterize, tp.double(), tt, (RH, RW))
+    ta = torch.from_dlpack(idd)
+    check(torch.equal(ta[0], torch.from_numpy(ids)) and ta.data_ptr() == torch.from_dlpack(idd).data_ptr(),
+          "torch.from_dlpack shares a DeviceArray's buffer (no copy)")
+    tr = rast.render(None, size=(W, H), output="torch")
+    check(isinstance(tr["depth"], torch.Tensor) and torch.equal(tr["ids"], torch.from_numpy(out["ids"])),
+          "render(output='torch') gives tensors")
+    check(rast._producer(tp, "pos", np.float32, [("V", 4)]) is tp, "a torch tensor goes to the module as it is")
+    tg = tp.clone().requires_grad_(True)
+    check(torch.equal(rast.rasterize(tg, tt, (RH, RW))[1], it), "a tensor that requires grad is read (detached)")
     if torch.cuda.is_available() and not rast.on_device:
         raises(ValueError, ["device"], rast.rasterize, tp.cuda(), tt, (RH, RW))
 sys.exit(1 if failed else 0)
