@@ -9,6 +9,9 @@
 #   .device/shared/envs/                         ../shared/envs (the .hdr environments), when present
 #   .device/lib/                                 host runtime libraries the builds need
 #                                                (libgomp, libdraco, libmeshoptimizer), in case the target lacks them
+#   .device/lib-mpi/                             Debian's OpenMPI libraries (RAST_MPI builds), used
+#                                                where the target has no OpenMPI 4 (session_h100.sh)
+#   .device/python/rast/                         the CUDA build's Python module, when built
 #   .device/kokkos_count.so                      Kokkos Tools launch counter (scripts/device/kokkos_count.cpp)
 #   .device/kokkos_ktime.so                      Kokkos Tools per-kernel timer (scripts/device/kokkos_ktime.cpp)
 #   .device/src/tests/                           golden images and CLI test scripts of the
@@ -99,6 +102,22 @@ fi
 for f in "$dev"/cuda/* "$dev"/openmp/*; do
   ldd "$f" | awk '/=> \// {print $3}' | grep -E 'libgomp|libdraco|libmeshoptimizer' || true
 done | sort -u | while read -r lib; do cp -L "$lib" "$dev/lib/"; done
+
+# Debian's OpenMPI, which RAST_MPI builds link (libmpi.so.40 and what it
+# needs): loaded only where the GPU machine has no OpenMPI 4 of its own
+# (session_h100.sh decides). Single-process runs never start MPI.
+mkdir -p "$dev/lib-mpi"
+for f in "$dev"/cuda/*; do
+  ldd "$f" | awk '/=> \// {print $3}' | grep -E 'libmpi|libopen-(rte|pal)|libhwloc|libevent|libudev' || true
+done | sort -u | while read -r lib; do cp -L "$lib" "$dev/lib-mpi/"; done
+
+# The CUDA build's Python module (docs/python.md), when it was built: the
+# machine's own python3 imports it with PYTHONPATH=.device/python.
+if [ -d "$cuda_build/python/rast" ] && ls "$cuda_build"/python/rast/_rast*.so > /dev/null 2>&1; then
+  mkdir -p "$dev/python"
+  cp -r "$cuda_build/python/rast" "$dev/python/rast"
+  strip "$dev"/python/rast/_rast*.so 2>/dev/null || true
+fi
 
 src_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$cuda_build/CMakeCache.txt")
 shared_dir=$(sed -n 's/^RAST_SHARED_DIR:PATH=//p' "$cuda_build/CMakeCache.txt")
