@@ -24,10 +24,14 @@
 #include "host/distributed/ranks.h"
 #include "host/scene/camera_list.h"
 #include "app/sequence_cmd.h"
+#ifdef RAST_HAVE_OPENEXR
+#include "app/exr_output.h"
+#endif
 
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -83,14 +87,36 @@ void writeOutputs(const Renderer& r, const RenderSettings& rs, const AovRequest&
     files.push_back(std::make_unique<AtomicFile>(path));
     return *files.back();
   };
+#ifdef RAST_HAVE_OPENEXR
+  // Outputs named *.exr are channels of one file per name (-o and --aov may
+  // share it): R G B A (linear, after the post chain), Z, id (UINT, triangle
+  // index + 1, 0 where empty), N.X N.Y N.Z, AO.
+  std::vector<std::pair<std::string, ExrImage>> exrs;
+  const auto exr = [&](const std::string& path) -> ExrImage* {
+    if (!isExrPath(path)) return nullptr;
+    for (auto& e : exrs)
+      if (e.first == path) return &e.second;
+    exrs.emplace_back(path, ExrImage(rs.width, rs.height));
+    return &exrs.back().second;
+  };
+#else
+  struct NoExr {  // never returned: .exr names are refused before the render
+    void addFloat(const std::string&, const float*, int = 1, int = 0) {}
+    void addUint(const std::string&, const uint32_t*) {}
+  };
+  const auto exr = [](const std::string&) -> NoExr* { return nullptr; };
+#endif
   if (rs.wantDepth) {
     const auto d = r.depthBottomUp();
-    if (isNpy(aov.depth)) writeNpy(open(aov.depth), rs.width, rs.height, 1, "<f4", d.data());
+    if (auto* e = exr(aov.depth)) e->addFloat("Z", d.data());
+    else if (isNpy(aov.depth)) writeNpy(open(aov.depth), rs.width, rs.height, 1, "<f4", d.data());
     else writePfm(open(aov.depth), rs.width, rs.height, 1, d.data());
   }
   if (rs.wantPrimId) {
     const auto ids = r.primIdsBottomUp();
-    if (isNpy(aov.primid)) {
+    if (auto* e = exr(aov.primid)) {
+      e->addUint("id", ids.data());
+    } else if (isNpy(aov.primid)) {
       writeNpy(open(aov.primid), rs.width, rs.height, 1, "<u4", ids.data());
     } else if (aov.primid.size() > 4 && aov.primid.substr(aov.primid.size() - 4) == ".pfm") {
       std::vector<float> f(ids.begin(), ids.end());
@@ -101,32 +127,52 @@ void writeOutputs(const Renderer& r, const RenderSettings& rs, const AovRequest&
   }
   if (rs.wantNormals) {
     const auto n = r.normalsBottomUp();
-    if (isNpy(aov.normals)) writeNpy(open(aov.normals), rs.width, rs.height, 3, "<f4", &n[0].x);
-    else writePfm(open(aov.normals), rs.width, rs.height, 3, &n[0].x);
+    if (auto* e = exr(aov.normals)) {
+      e->addFloat("N.X", &n[0].x, 3, 0);
+      e->addFloat("N.Y", &n[0].x, 3, 1);
+      e->addFloat("N.Z", &n[0].x, 3, 2);
+    } else if (isNpy(aov.normals)) {
+      writeNpy(open(aov.normals), rs.width, rs.height, 3, "<f4", &n[0].x);
+    } else {
+      writePfm(open(aov.normals), rs.width, rs.height, 3, &n[0].x);
+    }
   }
   if (!aov.ao.empty()) {
     const auto ao = r.aoBottomUp();
-    if (isNpy(aov.ao)) writeNpy(open(aov.ao), rs.width, rs.height, 1, "<f4", ao.data());
+    if (auto* e = exr(aov.ao)) e->addFloat("AO", ao.data());
+    else if (isNpy(aov.ao)) writeNpy(open(aov.ao), rs.width, rs.height, 1, "<f4", ao.data());
     else writePfm(open(aov.ao), rs.width, rs.height, 1, ao.data());
   }
   if (rs.post.floatOutput) {
-    // RGB of the RGBA film, a row at a time (no second copy of the frame).
     const std::vector<float4> film = r.filmBottomUp();
-    AtomicFile& f = open(out);
-    f.write("PF\n" + std::to_string(rs.width) + " " + std::to_string(rs.height) + "\n-1.0\n");
-    std::vector<float> row(size_t(rs.width) * 3);
-    for (size_t y = 0; y < size_t(rs.height); ++y) {
-      for (size_t x = 0; x < size_t(rs.width); ++x) {
-        const float4& p = film[y * size_t(rs.width) + x];
-        row[3 * x] = p.x;
-        row[3 * x + 1] = p.y;
-        row[3 * x + 2] = p.z;
+    if (auto* e = exr(out)) {
+      for (int k = 0; k < 3; ++k) e->addFloat(std::string(1, "RGB"[k]), &film[0].x, 4, k);
+      // Coverage accumulated in float can end a rounding step above 1;
+      // compositors take alpha as a fraction.
+      std::vector<float> alpha(film.size());
+      for (size_t i = 0; i < film.size(); ++i) alpha[i] = std::min(1.0f, std::max(0.0f, film[i].w));
+      e->addFloat("A", alpha.data());
+    } else {
+      // RGB of the RGBA film, a row at a time (no second copy of the frame).
+      AtomicFile& f = open(out);
+      f.write("PF\n" + std::to_string(rs.width) + " " + std::to_string(rs.height) + "\n-1.0\n");
+      std::vector<float> row(size_t(rs.width) * 3);
+      for (size_t y = 0; y < size_t(rs.height); ++y) {
+        for (size_t x = 0; x < size_t(rs.width); ++x) {
+          const float4& p = film[y * size_t(rs.width) + x];
+          row[3 * x] = p.x;
+          row[3 * x + 1] = p.y;
+          row[3 * x + 2] = p.z;
+        }
+        f.write(row.data(), row.size() * sizeof(float));
       }
-      f.write(row.data(), row.size() * sizeof(float));
     }
   } else {
     writePng(open(out), rs.width, rs.height, r.colorTopDown(), rs.background.w < 1.0f);
   }
+#ifdef RAST_HAVE_OPENEXR
+  for (const auto& e : exrs) e.second.write(open(e.first));
+#endif
   for (const auto& f : files) f->commit();
 }
 
@@ -160,8 +206,15 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       const std::string e(ext);
       return out.size() >= e.size() && out.compare(out.size() - e.size(), e.size(), e) == 0;
     };
-    if (endsWith(".exr") || endsWith(".EXR")) throw Error("-o: OpenEXR output is not built in; write a .pfm for a float image");
+#ifdef RAST_HAVE_OPENEXR
+    rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM") || isExrPath(out);  // linear float RGB after the post chain
+#else
+    for (const std::string* f : {&out, &aov.depth, &aov.primid, &aov.normals, &aov.ao})
+      if (f->size() > 4 && (f->compare(f->size() - 4, 4, ".exr") == 0 || f->compare(f->size() - 4, 4, ".EXR") == 0))
+        throw Error("'" + printable(*f) + "': OpenEXR output is not built in (libopenexr-dev, RAST_OPENEXR); "
+                    "write a .pfm or .npy instead");
     rs.post.floatOutput = endsWith(".pfm") || endsWith(".PFM");  // linear float RGB after the post chain
+#endif
     if (!aov.ao.empty() && !rs.post.ssao) throw Error("--aov ao=F.pfm needs --ssao");
     if (sortLast && rs.shading == ShadingMode::Depth)
       throw Error("--distribute: --shading depth scales by the depth range of the whole frame, which no rank sees; "
@@ -177,9 +230,20 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
       const AovRequest a = viewAovs(aov, many, v);
       checkOutputPath(o, "-o");
       outputs.addOutput(o, "-o");
+      // Outputs named *.exr may share a file (its channels); each is checked once.
+      std::vector<std::string> exrNames;
+#ifdef RAST_HAVE_OPENEXR
+      if (isExrPath(o)) exrNames.push_back(o);
+#endif
       for (const auto& [file, what] : {std::pair{&a.depth, "--aov depth"}, std::pair{&a.primid, "--aov primid"},
                                        std::pair{&a.normals, "--aov normals"}, std::pair{&a.ao, "--aov ao"}})
         if (!file->empty()) {
+#ifdef RAST_HAVE_OPENEXR
+          if (isExrPath(*file)) {
+            if (std::find(exrNames.begin(), exrNames.end(), *file) != exrNames.end()) continue;
+            exrNames.push_back(*file);
+          }
+#endif
           checkOutputPath(*file, "--aov");
           outputs.addOutput(*file, what);
         }
@@ -263,7 +327,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> aovs;
   CLI::App* render = app.add_subcommand("render", "render one frame to a PNG");
   renderOpts.addTo(*render);
-  render->add_option("-o,--output", out, "colour image: .png (sRGB8) or .pfm (linear float RGB, after the post chain)")
+  render->add_option("-o,--output", out, "colour image: .png (sRGB8), .pfm (linear float RGB, after the post chain) or .exr (linear float RGBA, and the AOVs named with the same file)")
       ->capture_default_str();
   std::string cameraFile;
   render->add_option("--cameras", cameraFile, "many views: a JSON list of cameras ({\"eye\": [x,y,z], \"target\", \"up\", "
@@ -276,7 +340,7 @@ int run(int argc, char** argv) {
   render->add_option("--frames", seq.frames, "render the animation from START to END seconds at FPS frames a second, "
                                               "START:END:FPS, to -o out_%04d.png or a video (.mp4, .webm, .gif through ffmpeg)");
   render->add_option("--turntable", seq.turntable, "orbit the camera around its target in N frames (with --frames: N frames an orbit)");
-  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first)");
+  render->add_option("--aov", aovs, "extra outputs: depth=F.pfm,primid=F.bin|F.pfm,normals=F.pfm,ao=F.pfm (with --ssao); any as F.npy (numpy, top row first) or F.exr (channels Z, id, N.X/N.Y/N.Z, AO; several may share one file, -o's too)");
 
   SceneOptions benchOpts;
   BenchOptions bo;

@@ -8,7 +8,7 @@
 #   .device/shared/models/                       ../shared/models, when present
 #   .device/shared/envs/                         ../shared/envs (the .hdr environments), when present
 #   .device/lib/                                 host runtime libraries the builds need
-#                                                (libgomp, libdraco, libmeshoptimizer), in case the target lacks them
+#                                                (libgomp, libdraco, libmeshoptimizer, OpenEXR), in case the target lacks them
 #   .device/lib-mpi/                             Debian's OpenMPI libraries (RAST_MPI builds), used
 #                                                where the target has no OpenMPI 4 (session_h100.sh)
 #   .device/python/rast/                         the CUDA build's Python module, when built
@@ -100,7 +100,7 @@ fi
 # Non-system shared libraries the binaries use (libgomp for the OpenMP build;
 # Debian's Draco and meshoptimizer for the glTF loader, docs/compression.md).
 for f in "$dev"/cuda/* "$dev"/openmp/*; do
-  ldd "$f" | awk '/=> \// {print $3}' | grep -E 'libgomp|libdraco|libmeshoptimizer' || true
+  ldd "$f" | awk '/=> \// {print $3}' | grep -E 'libgomp|libdraco|libmeshoptimizer|libOpenEXR|libIex|libIlmThread|libImath' || true
 done | sort -u | while read -r lib; do cp -L "$lib" "$dev/lib/"; done
 
 # Debian's OpenMPI, which RAST_MPI builds link (libmpi.so.40 and what it

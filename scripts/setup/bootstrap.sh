@@ -148,6 +148,7 @@ PACKAGES=(build-essential cmake ninja-build git pkg-config ca-certificates xz-ut
           libdraco-dev libmeshoptimizer-dev ffmpeg  # compressed glTF (docs/compression.md), videos (docs/animation.md)
           python3-dev python3-numpy pybind11-dev python3-pybind11 libdlpack-dev python3-torch  # the Python module (python/, docs/python.md; torch for its DLPack tests)
           python3-pip python3-setuptools python3-wheel  # `pip install .` (tests/cli/cli_pip_install.py)
+          libopenexr-dev  # -o F.exr (app/exr_output.h)
           clang-14 libclang-rt-14-dev libomp-14-dev  # libFuzzer + ASan/UBSan (scripts/fuzz/fuzz_loader.sh)
           libopenmpi-dev openmpi-bin)  # distributed runs, RAST_MPI (docs/distributed.md, tests/cli/cli_distributed.py)
 VIEWER_PACKAGES=(libglfw3-dev libimgui-dev xvfb xauth libgl1-mesa-dri libegl-mesa0

@@ -219,7 +219,6 @@ expect_error("--bloom four values", render_args(scene, "--bloom=1,2,3,4"), "--bl
 expect_error("--ssao=0.1,0", render_args(scene, "--ssao=0.1,0"), "--ssao")
 expect_error("--ssao negative radius", render_args(scene, "--ssao=-1"), "--ssao")
 expect_error("--aov ao without --ssao", render_args(scene, "--aov", "ao=" + os.path.join(work, "ao.pfm")), "--ssao")
-expect_error("-o out.exr", ["render", scene, "--size", "64x48", "-o", os.path.join(work, "out.exr")], "OpenEXR")
 # CLI11 parse errors (exit 2).
 expect_error("unknown flag", render_args(scene, "--no-such-flag"), "--no-such-flag")
 expect_error("option without its value", ["render", scene, "-o", out_png, "--size"], "--size")

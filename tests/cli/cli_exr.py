@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""OpenEXR output (#42; app/exr_output.h) from the command line:
+
+ - `-o F.exr` with `--aov depth=F.exr,primid=F.exr,normals=F.exr` writes one
+   multi-channel file whose R, G, B, Z, id and N.X/N.Y/N.Z are the very
+   values of the PFM and ids outputs of the same render (rows flipped to
+   EXR's top-first order), with A in [0, 1], ZIP compressed;
+ - an AOV in its own .exr holds that channel alone, and .npy/.pfm outputs
+   beside it are unchanged;
+ - a failed run leaves an existing .exr as it was.
+Read back with tests/support/exr_read.py (OpenEXR's Python bindings are not in
+Debian). Skips (77) when the build has no OpenEXR."""
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+import rastimg  # noqa: E402
+from exr_read import read_exr  # noqa: E402
+from script_args import arg_parser  # noqa: E402
+from skip import skip  # noqa: E402
+
+args = arg_parser().parse_args()
+wd = os.path.abspath(args.workdir)
+os.makedirs(wd, exist_ok=True)
+env = dict(os.environ, OMP_PROC_BIND="false")
+failed = 0
+
+
+def check(ok, what):
+    global failed
+    print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
+    failed += not ok
+
+
+def rast(*a):
+    return subprocess.run([args.rast, *a], capture_output=True, text=True, env=env, timeout=300)
+
+
+def p(name):
+    return os.path.join(wd, name)
+
+
+scene = ["builtin:default", "--size", "48x32"]
+r = rast("render", *scene, "-o", p("probe.exr"))
+if r.returncode != 0 and "OpenEXR output is not built in" in r.stderr:
+    skip(wd, "this build has no OpenEXR (libopenexr-dev, RAST_OPENEXR)")
+check(r.returncode == 0, "rast render -o F.exr ran: " + r.stderr.strip()[-300:])
+
+f = p("frame.exr")
+r = rast("render", *scene, "-o", f, "--aov", f"depth={f},primid={f},normals={f}")
+check(r.returncode == 0, "colour and three AOVs into one .exr: " + r.stderr.strip()[-300:])
+r2 = rast("render", *scene, "-o", p("frame.pfm"), "--aov",
+          f"depth={p('d.pfm')},primid={p('ids.bin')},normals={p('n.pfm')}")
+check(r2.returncode == 0, "the same render into PFM and ids files")
+hdr, ch = read_exr(f)
+check(hdr["width"] == 48 and hdr["height"] == 32 and hdr["compression"] == 3, f"48x32, ZIP compressed: {hdr}")
+check(sorted(hdr["channels"]) == sorted(["R", "G", "B", "A", "Z", "id", "N.X", "N.Y", "N.Z"]),
+      f"channels R G B A Z id N.X N.Y N.Z: {hdr['channels']}")
+check(hdr["types"]["id"] == 0 and hdr["types"]["Z"] == 2, "id is UINT, Z is FLOAT")
+
+
+def top_first(values, w, h, c, k):
+    """Channel k of a bottom-first interleaved PFM as rows, top first."""
+    return [[values[((h - 1 - y) * w + x) * c + k] for x in range(w)] for y in range(h)]
+
+
+w, h, c, rgb = rastimg.read_pfm(p("frame.pfm"))
+check(all(ch[n] == top_first(rgb, w, h, 3, k) for k, n in enumerate("RGB")), "R, G, B == the PFM's linear colour")
+_, _, _, dep = rastimg.read_pfm(p("d.pfm"))
+check(ch["Z"] == top_first(dep, w, h, 1, 0), "Z == --aov depth's PFM")
+_, _, nrm = rastimg.read_pfm(p("n.pfm"))[0:2] + (rastimg.read_pfm(p("n.pfm"))[3],)
+check(all(ch[n] == top_first(nrm, w, h, 3, k) for k, n in enumerate(["N.X", "N.Y", "N.Z"])),
+      "N.X N.Y N.Z == --aov normals' PFM")
+_, _, ids = rastimg.read_ids(p("ids.bin"))
+flat = [v for row in ch["id"] for v in row]
+check(flat == list(ids) and any(flat) and not all(flat), "id == --aov primid (index + 1, 0 where empty)")
+check(all(0.0 <= a <= 1.0 for row in ch["A"] for a in row) and max(max(row) for row in ch["A"]) == 1.0,
+      "A within [0, 1] (clamped), 1 where covered")
+
+z = p("z.exr")
+r = rast("render", *scene, "-o", p("c.png"), "--aov", f"depth={z},primid={p('i.npy')}")
+hz, cz = read_exr(z)
+check(r.returncode == 0 and hz["channels"] == ["Z"] and cz["Z"] == ch["Z"], "an AOV alone in its .exr: channel Z")
+check(os.path.getsize(p("i.npy")) > 4 * 48 * 32, "the .npy beside it is written")
+
+before = open(f, "rb").read()
+r = rast("render", *scene, "-o", f, "--aov", f"depth={f}", "--shading", "glossy")
+check(r.returncode != 0 and open(f, "rb").read() == before, "a failed run leaves the existing .exr as it was")
+sys.exit(1 if failed else 0)
