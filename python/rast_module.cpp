@@ -160,6 +160,7 @@ py::array toNumpy(const DeviceArray& a) {
 // nvdiffrast's RasterizeCudaContext: a lib::Rasterizer kept across calls.
 struct RasterizeContext {
   lib::Rasterizer rasterizer;
+  rast_python::BufferPool outputs;
   KokkosHold hold;
 };
 
@@ -185,8 +186,8 @@ py::tuple rasterize(RasterizeContext& ctx, py::handle posH, py::handle triH, int
   const int64_t batch = pr == 3 ? pb.dim(0) : 1, nv = pb.dim(pr - 2), nt = tb.dim(0);
   const auto pos = inLibraryMemory<float, 4>(pb, batch * nv);
   const auto tri = inLibraryMemory<int32_t, 3>(tb, nt);
-  auto out = DeviceArray::allocate<float>("rast::python::rasterize_out", {batch, height, width, 4});
-  auto ids = DeviceArray::allocate<int32_t>("rast::python::rasterize_ids", {batch, height, width});
+  auto out = ctx.outputs.take<float>("rast::python::rasterize_out", {batch, height, width, 4});
+  auto ids = ctx.outputs.take<int32_t>("rast::python::rasterize_ids", {batch, height, width});
   {
     py::gil_scoped_release nogil;
     const int64_t pixels = int64_t(height) * width;

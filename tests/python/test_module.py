@@ -233,6 +233,21 @@ check(np.array_equal(r1[1][0], ids) and np.array_equal(r1[0][0], o), "a context'
 check(not np.array_equal(r2[1], r1[1]) and np.array_equal(r2[1], f2[1]) and np.array_equal(r2[0], f2[0]),
       "new positions, same counts: the reused context == a fresh one")
 check(np.array_equal(r3[1], f3[1]) and np.array_equal(r3[0], f3[0]), "new triangles, same counts: == a fresh one")
+# Output buffers: a context reuses one only once nothing outside holds it.
+keep = rast.rasterize(pos, tri, (RH, RW), context=ctx, output="dlpack")
+addr = keep[1].numpy().ctypes.data
+again = rast.rasterize(moved, tri, (RH, RW), context=ctx, output="dlpack")
+check(again[1].numpy().ctypes.data != addr and np.array_equal(keep[1].numpy()[0], ids),
+      "an output still held is never handed out again (the first call's ids intact)")
+del keep, again
+reuse = rast.rasterize(pos, tri, (RH, RW), context=ctx, output="dlpack")
+check(reuse[1].numpy().ctypes.data == addr and np.array_equal(reuse[1].numpy()[0], ids),
+      "a released output buffer is reused by the next call")
+held = np.from_dlpack(reuse[1]) if not rast.on_device else reuse[1].numpy()
+del reuse
+again = rast.rasterize(moved, tri, (RH, RW), context=ctx, output="dlpack")
+check(rast.on_device or again[1].numpy().ctypes.data != addr, "a numpy view of an output keeps it from reuse")
+del held, again
 r4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=ctx)
 f4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=rast.RasterizeContext())
 check(r4[1].shape == (1, RH // 2, RW) and np.array_equal(r4[1], f4[1]), "other counts and size: rebuilt, == a fresh one")
