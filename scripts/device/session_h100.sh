@@ -15,6 +15,7 @@
 #   blend      bench_transparency.py: the transparency methods' error and time (#39)
 #   python     the Python module's tests on the CUDA build (#42)
 #   nvdiffrast rasterize_vs_nvdiffrast.py: rast.rasterize against dr.rasterize (#42)
+#   distributed distributed_scale.sh: sort-last and many views over the machine's GPUs (#41)
 # At the end OUTDIR/results.tar.gz holds every file written (the device tool
 # brings back few files).
 set -uo pipefail
@@ -24,16 +25,7 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
 mkdir -p "$out/files"
 dev=$root/.device
-export OMP_PROC_BIND=false NCCL_NVLS_ENABLE=0
-# Debian's OpenMPI libraries travel in .device/lib-mpi; the machine's own
-# (OpenMPI 4.1.x, the same soname) come first when it has them.
-mpi=$(ldconfig -p 2>/dev/null | awk '/libmpi\.so\.40 / {print $NF; exit}')
-if [ -z "$mpi" ] && command -v mpirun > /dev/null; then
-  d=$(dirname "$(readlink -f "$(command -v mpirun)")")/../lib
-  [ -e "$d/libmpi.so.40" ] && mpi=$d/libmpi.so.40 && export LD_LIBRARY_PATH="$d${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-fi
-[ -z "$mpi" ] && [ -d "$dev/lib-mpi" ] && export LD_LIBRARY_PATH="$dev/lib-mpi${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-[ -d "$dev/lib" ] && export LD_LIBRARY_PATH="$dev/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+source scripts/device/device_env.sh
 status=0
 step() {  # step NAME CMD...
   local name=$1; shift
@@ -68,6 +60,7 @@ for s in "$@"; do
       step nvdiffrast env PYTHONPATH="$dev/python" python3 scripts/device/rasterize_vs_nvdiffrast.py \
         --rast "$dev/cuda/rast" --models "$dev/shared/models" --stress /tmp/stress \
         --out "$out/files/rasterize_vs_nvdiffrast.csv" ;;
+    distributed) step distributed bash scripts/device/distributed_scale.sh "$dev/cuda/rast" "$out/files/distributed" ;;
     *) echo "unknown step $s"; status=1 ;;
   esac
 done
