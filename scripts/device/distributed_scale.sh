@@ -13,8 +13,8 @@
 # 2. strong scaling: builtin:tiny?n=100000000 (100 M triangles) on 1, 2, 4 ranks;
 # 3. weak scaling: 100 M triangles per rank (n = 100 M x ranks; builtin:tiny is
 #    generated in part per rank under --distribute, up to 1.8 G triangles);
-# 4. many views: 1,000 views (a turntable) of builtin:default at 640x480 on 1
-#    and 4 ranks, wall time of the whole run.
+# 4. many views: 1,000 views (a turntable) of builtin:default at 640x480 on 1,
+#    2 and 4 ranks, wall time of the whole run.
 # Each bench writes JSON rows (rank 0's stages: vertex, setup, raster,
 # composite, shade, merge, frame) to OUTDIR/dist_*.json; summary.txt collects
 # the tables. Environment: NCCL_NVLS_ENABLE=0 is kept for the shared hosts.
@@ -82,7 +82,7 @@ json.dump([{"eye": [4 * math.sin(2 * math.pi * k / 1000), 1.5, 4 * math.cos(2 * 
             "target": [0, 0.4, 0]} for k in range(1000)], open(sys.argv[1], "w"))
 PY
 mkdir -p "$out/views"
-for n in 1 4; do
+for n in 1 2 4; do
   [ "$n" -le "$gpus" ] || continue
   start=$(date +%s.%N)
   mpirun --oversubscribe -np "$n" "$rast" render builtin:default --size 640x480 --cameras "$out/cams1000.json" \
