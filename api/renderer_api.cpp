@@ -48,6 +48,36 @@ namespace {
 struct Mat4 {
   double m[16];  // column-major
 };
+
+// The kernel of Renderer::Impl::computeBarycentrics, at namespace scope: nvcc
+// refuses an extended lambda inside a private nested class's member.
+void frameBarycentrics(const View<const uint32_t**>& ids, const View<const float* [9]>& tw,
+                       const View<float** [3]>& out, const Mat4 m, const uint32_t nTri, const int width,
+                       const int height) {
+  Kokkos::parallel_for(
+      "rast::api::frame_barycentrics",
+      Kokkos::MDRangePolicy<ExecutionSpace, Kokkos::Rank<2>>({0, 0}, {int64_t(height), int64_t(width)}),
+      KOKKOS_LAMBDA(const int64_t y, const int64_t x) {
+        const uint32_t id = ids(y, x);
+        if (id == 0 || id > nTri) {
+          for (int k = 0; k < 3; ++k) out(y, x, k) = 0.0f;
+          return;
+        }
+        double px[3], py[3], iw[3];
+        for (int k = 0; k < 3; ++k) {
+          const double wx = tw(id - 1, 3 * k), wy = tw(id - 1, 3 * k + 1), wz = tw(id - 1, 3 * k + 2);
+          const double cx = m.m[0] * wx + m.m[4] * wy + m.m[8] * wz + m.m[12];
+          const double cy = m.m[1] * wx + m.m[5] * wy + m.m[9] * wz + m.m[13];
+          const double cw = m.m[3] * wx + m.m[7] * wy + m.m[11] * wz + m.m[15];
+          iw[k] = 1.0 / cw;
+          px[k] = cx * iw[k];
+          py[k] = cy * iw[k];
+        }
+        const PixelBarycentrics w = pixelBarycentrics(x, y, width, height, px, py, iw);
+        for (int k = 0; k < 3; ++k) out(y, x, k) = float(w.p[k]);
+      });
+  Kokkos::fence();
+}
 }  // namespace
 
 // The corners of every drawn triangle in draw order (the order of primitive
@@ -77,33 +107,7 @@ void Renderer::Impl::computeBarycentrics(const ::rast::Camera& cam, int width, i
   const glm::dmat4 vp = cam.viewProjection(width, height);
   Mat4 m;
   for (int i = 0; i < 16; ++i) m.m[i] = vp[i / 4][i % 4];
-  const View<const uint32_t**> ids = frame.primIds;
-  const View<const float* [9]> tw = triWorld;
-  const View<float** [3]> out = barycentrics;
-  const uint32_t nTri = s.triangleCount();
-  Kokkos::parallel_for(
-      "rast::api::frame_barycentrics",
-      Kokkos::MDRangePolicy<ExecutionSpace, Kokkos::Rank<2>>({0, 0}, {int64_t(height), int64_t(width)}),
-      KOKKOS_LAMBDA(const int64_t y, const int64_t x) {
-        const uint32_t id = ids(y, x);
-        if (id == 0 || id > nTri) {
-          for (int k = 0; k < 3; ++k) out(y, x, k) = 0.0f;
-          return;
-        }
-        double px[3], py[3], iw[3];
-        for (int k = 0; k < 3; ++k) {
-          const double wx = tw(id - 1, 3 * k), wy = tw(id - 1, 3 * k + 1), wz = tw(id - 1, 3 * k + 2);
-          const double cx = m.m[0] * wx + m.m[4] * wy + m.m[8] * wz + m.m[12];
-          const double cy = m.m[1] * wx + m.m[5] * wy + m.m[9] * wz + m.m[13];
-          const double cw = m.m[3] * wx + m.m[7] * wy + m.m[11] * wz + m.m[15];
-          iw[k] = 1.0 / cw;
-          px[k] = cx * iw[k];
-          py[k] = cy * iw[k];
-        }
-        const PixelBarycentrics w = pixelBarycentrics(x, y, width, height, px, py, iw);
-        for (int k = 0; k < 3; ++k) out(y, x, k) = float(w.p[k]);
-      });
-  Kokkos::fence();
+  frameBarycentrics(frame.primIds, triWorld, barycentrics, m, s.triangleCount(), width, height);
 }
 
 Renderer::Renderer(const Scene& scene, uint64_t memoryBudget) {
