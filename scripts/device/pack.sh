@@ -128,7 +128,7 @@ shared_dir=$(sed -n 's/^RAST_SHARED_DIR:PATH=//p' "$cuda_build/CMakeCache.txt")
 # there matching the build.
 mkdir -p "$dev/src/tests"
 cp -r "$src_dir/tests/golden" "$dev/src/tests/golden"
-cp "$src_dir"/tests/*.py "$dev/src/tests/"
+cp -r "$src_dir/tests/cli" "$src_dir/tests/support" "$dev/src/tests/"
 {
   echo "RAST_BUILD_SOURCE_DIR=$src_dir"
   echo "RAST_BUILD_SHARED_DIR=$shared_dir"

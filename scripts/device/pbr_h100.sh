@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The glTF shading (`--shading pbr`, #37) on the GPU machine: its frame time
 # against Blinn-Phong's on the shared models at 1920x1080 (rast bench, median
-# of 200 frames), and parity of the CUDA build with the OpenMP build (ids and
+# of 200 frames), punctual light alone (--env none) and with the default
+# environment, and parity of the CUDA build with the OpenMP build (ids and
 # depth identical, colours within 1/255) on the same views.
 #
 #   bash scripts/device/pbr_h100.sh CUDA_RAST OPENMP_RAST MODELS_DIR OUT_DIR [extra render flags]
@@ -16,8 +17,10 @@ mkdir -p "$out"
 export OMP_PROC_BIND=false
 echo "model,shading,total_ms,shade_ms" > "$out/pbr_bench.csv"
 for m in box checkerboard cow duck engine milktruck; do
-  for s in blinn-phong pbr; do
-    "$cuda" bench "$models/$m.glb" --size 1920x1080 --frames 200 --warmup 20 --shading "$s" --json "$out/$m.$s.json" \
+  for v in "blinn-phong:--shading blinn-phong" "pbr-punctual:--shading pbr --env none" "pbr-env:--shading pbr"; do
+    s=${v%%:*}
+    read -r -a flags <<< "${v#*:}"
+    "$cuda" bench "$models/$m.glb" --size 1920x1080 --frames 200 --warmup 20 "${flags[@]}" --json "$out/$m.$s.json" \
       "${extra[@]}" > "$out/$m.$s.txt" 2>&1 || { echo "bench $m $s failed"; tail -3 "$out/$m.$s.txt"; continue; }
     python3 - "$out/$m.$s.json" "$m" "$s" >> "$out/pbr_bench.csv" <<'EOF'
 import json, sys
@@ -39,26 +42,14 @@ import sys, zlib, struct
 out, m = sys.argv[1], sys.argv[2]
 same_ids = open(f"{out}/{m}.cuda.ids.bin", "rb").read() == open(f"{out}/{m}.cpu.ids.bin", "rb").read()
 same_depth = open(f"{out}/{m}.cuda.depth.pfm", "rb").read() == open(f"{out}/{m}.cpu.depth.pfm", "rb").read()
+sys.path.insert(0, "tests/support")
+import rastimg  # noqa: E402 (PNG of any colour type, standard library)
+
+
 def rgba(p):
-    d = open(p, "rb").read(); i = 8; w = h = 0; idat = b""
-    while i < len(d):
-        n, t = struct.unpack(">I4s", d[i:i + 8]); c = d[i + 8:i + 8 + n]
-        if t == b"IHDR": w, h = struct.unpack(">II", c[:8])
-        if t == b"IDAT": idat += c
-        i += 12 + n
-    raw = zlib.decompress(idat); bpp = 4; stride = w * bpp; rows = []; prev = bytearray(stride); p = 0
-    for y in range(h):
-        f = raw[p]; line = bytearray(raw[p + 1:p + 1 + stride]); p += 1 + stride
-        for x in range(stride):
-            a = line[x - bpp] if x >= bpp else 0; b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
-            if f == 1: line[x] = (line[x] + a) & 255
-            elif f == 2: line[x] = (line[x] + b) & 255
-            elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
-            elif f == 4:
-                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line)); prev = line
-    return b"".join(rows)
+    return rastimg.read_png_rgba(p)[2]
+
+
 a, b = rgba(f"{out}/{m}.cuda.png"), rgba(f"{out}/{m}.cpu.png")
 diff = max(abs(x - y) for x, y in zip(a, b))
 ok = same_ids and same_depth and diff <= 1

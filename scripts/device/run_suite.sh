@@ -30,7 +30,7 @@ export RAST_SHARED_DIR=$dev/shared RAST_ASSIMP_GLTF_DIR=$dev/assimp
 # Test files of the built sources (pack.sh copies them to .device/src), else this checkout's.
 src=$root
 linked=""
-[ -f "$dev/src/tests/cli_parity.py" ] && src=$dev/src
+[ -f "$dev/src/tests/cli/cli_parity.py" ] && src=$dev/src
 # The golden tests read tests/golden/ under the source path compiled in at build
 # time; when that path does not exist here, make it a link to $src.
 if [ -f "$dev/build.env" ]; then
@@ -69,7 +69,7 @@ step() {  # step NAME CMD...: run, log its status, remember failures
 
   case $skip in *,parity,*) ;; *)
     rm -rf /tmp/parity
-    step parity python3 "$src/tests/cli_parity.py" --rast "$dev/cuda/rast" --rast-serial "$dev/openmp/rast" \
+    step parity python3 "$src/tests/cli/cli_parity.py" --rast "$dev/cuda/rast" --rast-serial "$dev/openmp/rast" \
       --shared "$dev/shared" --assimp "$dev/assimp" --workdir /tmp/parity
     ;;
   esac

@@ -28,14 +28,14 @@ RenderSettings small(int w = 96, int h = 54) {
 }
 
 // The linear film (bottom row first) of one frame.
-std::vector<float4> film(const Scene& s, RenderSettings rs, FrameStats* st = nullptr, uint64_t budget = 0) {
+std::vector<rast::float4> film(const Scene& s, RenderSettings rs, FrameStats* st = nullptr, uint64_t budget = 0) {
   Renderer r(s, budget);
   const FrameStats f = r.render(defaultCamera(s), rs);
   if (st) *st = f;
   return r.filmBottomUp();
 }
 
-double maxDiff(const std::vector<float4>& a, const std::vector<float4>& b) {
+double maxDiff(const std::vector<rast::float4>& a, const std::vector<rast::float4>& b) {
   double m = 0.0;
   for (size_t i = 0; i < a.size(); ++i)
     m = std::max({m, std::fabs(double(a[i].x) - b[i].x), std::fabs(double(a[i].y) - b[i].y),
@@ -43,8 +43,8 @@ double maxDiff(const std::vector<float4>& a, const std::vector<float4>& b) {
   return m;
 }
 
-bool sameBits(const std::vector<float4>& a, const std::vector<float4>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float4)) == 0;
+bool sameBits(const std::vector<rast::float4>& a, const std::vector<rast::float4>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(rast::float4)) == 0;
 }
 
 const Transparency kMethods[] = {Transparency::Exact, Transparency::Sorted, Transparency::KBuffer, Transparency::Weighted};
@@ -89,8 +89,8 @@ TEST_CASE("BLEND: blue at alpha 0.5 over opaque red is (0.5, 0, 0.5) in linear l
     RenderSettings rs = small();
     rs.shading = ShadingMode::Pbr;  // KHR_materials_unlit
     rs.transparency = t;
-    const std::vector<float4> f = film(s, rs);
-    const float4 c = f[size_t(rs.height / 2) * rs.width + rs.width / 2];
+    const std::vector<rast::float4> f = film(s, rs);
+    const rast::float4 c = f[size_t(rs.height / 2) * rs.width + rs.width / 2];
     const double tol = t == Transparency::Weighted ? 1e-6 : 0.0;
     CHECK(std::fabs(c.x - 0.5) <= tol);
     CHECK(c.y == 0.0f);
@@ -101,7 +101,7 @@ TEST_CASE("BLEND: blue at alpha 0.5 over opaque red is (0.5, 0, 0.5) in linear l
 TEST_CASE("BLEND exact: the same bits under every raster method and sample count", "[transparency][blend]") {
   const Scene s = builtinScene("builtin:layers?n=12&mixed=1&cross=1");
   for (int msaa : {1, 4}) {
-    std::vector<float4> first;
+    std::vector<rast::float4> first;
     std::vector<uint32_t> firstIds;
     for (RasterMethod m : allRasterMethods()) {
       INFO(toString(m) << " msaa " << msaa);
@@ -111,7 +111,7 @@ TEST_CASE("BLEND exact: the same bits under every raster method and sample count
       rs.transparency = Transparency::Exact;
       Renderer r(s);
       r.render(defaultCamera(s), rs);
-      const std::vector<float4> f = r.filmBottomUp();
+      const std::vector<rast::float4> f = r.filmBottomUp();
       if (first.empty()) {
         first = f;
         firstIds = r.primIdsBottomUp();
@@ -181,7 +181,7 @@ TEST_CASE("BLEND: a store over the memory budget falls back to kbuffer and says 
   CHECK(big.blendFragments == uint64_t(320) * 180 * 64);  // every layer covers the frame
   CHECK(big.blendMaxDepth == 64);
   // 16 MiB hold the scene and the frame but not 3.7 million fragments (29 MB).
-  const std::vector<float4> f = film(s, rs, &tight, uint64_t(16) << 20);
+  const std::vector<rast::float4> f = film(s, rs, &tight, uint64_t(16) << 20);
   CHECK(tight.blendFallback);
   CHECK(tight.transparency == Transparency::KBuffer);
   RenderSettings k = rs;

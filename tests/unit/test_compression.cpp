@@ -52,7 +52,7 @@ std::vector<Tri> triangles(const Scene& s) {
     for (uint32_t t = 0; t < p.triCount; ++t) {
       std::array<std::array<float, 3>, 3> c;
       for (int k = 0; k < 3; ++k) {
-        const float3 v = s.positions[p.firstVertex + s.indices[3 * size_t(p.firstTri + t) + k]];
+        const rast::float3 v = s.positions[p.firstVertex + s.indices[3 * size_t(p.firstTri + t) + k]];
         c[k] = {v.x, v.y, v.z};
       }
       const int r = int(std::min_element(c.begin(), c.end()) - c.begin());
@@ -202,8 +202,8 @@ TEST_CASE("compression: Debian's 2CylinderEngine with Draco matches the uncompre
       const MeshPrim& p = s.prims[d.prim];
       for (uint32_t t = 0; t < p.triCount; ++t) {
         const uint32_t* ix = s.indices.data() + 3 * size_t(p.firstTri + t);
-        const float3 u = s.positions[p.firstVertex + ix[0]], v = s.positions[p.firstVertex + ix[1]], w = s.positions[p.firstVertex + ix[2]];
-        const float3 c = cross(v - u, w - u);
+        const rast::float3 u = s.positions[p.firstVertex + ix[0]], v = s.positions[p.firstVertex + ix[1]], w = s.positions[p.firstVertex + ix[2]];
+        const rast::float3 c = cross(v - u, w - u);
         n += dot(c, c) > 0.0f ? 1 : 0;
       }
     }

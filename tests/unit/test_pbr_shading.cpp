@@ -50,7 +50,7 @@ Doc square(const json& material, const json* light = nullptr, const json& lightN
 }
 
 // The centre pixel's colour, linear (decoded from the 8-bit sRGB image).
-float3 centre(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) {
+rast::float3 centre(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) {
   Camera cam;
   cam.eye = eye;
   cam.target = {0, 0, 0};
@@ -60,7 +60,7 @@ float3 centre(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) {
   rs.environment = "none";  // the file's lights alone: the closed forms below
   rs.filter = TexFilter::Nearest;
   const uint32_t c = test::renderFrame(s, cam, rs).color[size_t(kSize / 2) * kSize + kSize / 2];
-  return float3{float(srgbDecode((c & 0xff) / 255.0)), float(srgbDecode(((c >> 8) & 0xff) / 255.0)),
+  return rast::float3{float(srgbDecode((c & 0xff) / 255.0)), float(srgbDecode(((c >> 8) & 0xff) / 255.0)),
                 float(srgbDecode(((c >> 16) & 0xff) / 255.0))};
 }
 
@@ -70,7 +70,7 @@ void near(float got, double want) {
   INFO("got " << got << ", want " << want);
   CHECK(std::abs(double(got) - want) <= tol);
 }
-void near(const float3& got, double r, double g, double b) {
+void near(const rast::float3& got, double r, double g, double b) {
   near(got.x, r);
   near(got.y, g);
   near(got.z, b);
@@ -187,15 +187,15 @@ TEST_CASE("pbr: metallicRoughness and normal textures", "[pbr]") {
     doc.j["images"] = json::array({{{"uri", image}}});
     return doc;
   };
-  const float3 mr = centre(loadDoc(textured({{"metallicRoughnessTexture", {{"index", 0}}}}, "mr.png"), d, "mr"));
+  const rast::float3 mr = centre(loadDoc(textured({{"metallicRoughnessTexture", {{"index", 0}}}}, "mr.png"), d, "mr"));
   near(mr, brdfAxis(1, 1, 0.6, 1), brdfAxis(0.5, 1, 0.6, 1), brdfAxis(0.25, 1, 0.6, 1));
   // A white dielectric lit along the normal: a flat normal map changes
   // nothing; one that tilts the normal 90 degrees away from the light
   // leaves it dark (a grazing diffuse lobe and a 4% specular one).
   const json white = pbrMaterial(1, 1, 1, 0, 0.5);
-  const float3 flat = centre(loadDoc(textured({{"normalTexture", {{"index", 0}}}}, "flat.png", white), d, "flat"));
+  const rast::float3 flat = centre(loadDoc(textured({{"normalTexture", {{"index", 0}}}}, "flat.png", white), d, "flat"));
   near(flat.x, brdfAxis(1, 0, 0.5, 1));
-  const float3 tilt = centre(loadDoc(textured({{"normalTexture", {{"index", 0}}}}, "tilt.png", white), d, "tilt"));
+  const rast::float3 tilt = centre(loadDoc(textured({{"normalTexture", {{"index", 0}}}}, "tilt.png", white), d, "tilt"));
   CHECK(tilt.x < 0.01f);
   // scale 0 flattens any map back to the surface normal.
   const json flatten = {{"normalTexture", {{"index", 0}, {"scale", 0.0}}}};
