@@ -118,7 +118,10 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
   RenderSettings rs;
   rs.width = width;
   rs.height = height;
-  rs.shading = ShadingMode::Depth;
+  // Only the ids are read back; Lambert's frame takes the shade stage's
+  // lit kernel, its cheapest (depth shading adds a min/max pass over the
+  // frame and the general kernel).
+  rs.shading = ShadingMode::Lambert;
   rs.wantPrimId = true;
   impl_->renderer->render(cam, rs);
   const auto prim = impl_->renderer->frameBuffers().primId;
