@@ -28,25 +28,28 @@ void checkInputs(const ExecutionSpace& exec, const View<const float* [4]>& pos, 
   if (tri.extent(0) > size_t(std::numeric_limits<uint32_t>::max() - 2) / 3)
     throw Error("rasterize: too many triangles (" + std::to_string(tri.extent(0)) + ")");
   const int64_t nv = int64_t(pos.extent(0)), nt = int64_t(tri.extent(0));
-  exec.fence();
-  // The first bad vertex and the first bad index (nv / nt*3 when none).
-  int64_t badVertex = nv, badIndex = 3 * nt;
+  // One pass over the vertices then the indices, in that order on exec (after
+  // the caller's work there): the first bad one, nv + 3 nt when none. One
+  // reduction, so one wait for the device.
+  int64_t firstBad = nv + 3 * nt;
   Kokkos::parallel_reduce(
-      "rast::api::check_positions", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, nv),
-      KOKKOS_LAMBDA(const int64_t i, int64_t& first) {
-        bool ok = true;
-        for (int k = 0; k < 4; ++k) ok = ok && (pos(i, k) - pos(i, k)) == 0.0f;  // false for NaN and infinities
-        if (!(ok && pos(i, 3) > 0.0f) && i < first) first = i;
+      "rast::api::check_inputs", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, nv + 3 * nt),
+      KOKKOS_LAMBDA(const int64_t j, int64_t& first) {
+        bool ok;
+        if (j < nv) {
+          ok = true;
+          for (int k = 0; k < 4; ++k) ok = ok && (pos(j, k) - pos(j, k)) == 0.0f;  // false for NaN and infinities
+          ok = ok && pos(j, 3) > 0.0f;
+        } else {
+          const int64_t i = j - nv;
+          const int32_t v = tri(i / 3, i % 3);
+          ok = v >= 0 && v < nv;
+        }
+        if (!ok && j < first) first = j;
       },
-      Kokkos::Min<int64_t>(badVertex));
-  Kokkos::parallel_reduce(
-      "rast::api::check_indices", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, 3 * nt),
-      KOKKOS_LAMBDA(const int64_t i, int64_t& first) {
-        const int32_t v = tri(i / 3, i % 3);
-        if ((v < 0 || v >= nv) && i < first) first = i;
-      },
-      Kokkos::Min<int64_t>(badIndex));
-  exec.fence();
+      Kokkos::Min<int64_t>(firstBad));
+  const int64_t badVertex = firstBad < nv ? firstBad : nv;
+  const int64_t badIndex = firstBad < nv ? 3 * nt : firstBad - nv;
   if (badVertex < nv) {
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(pos, badVertex, Kokkos::ALL));
     throw Error("rasterize: vertex " + std::to_string(badVertex) + " is (" + std::to_string(h(0)) + ", " +
@@ -58,6 +61,15 @@ void checkInputs(const ExecutionSpace& exec, const View<const float* [4]>& pos, 
     throw Error("rasterize: triangle " + std::to_string(badIndex / 3) + " has index " +
                 std::to_string(h(badIndex % 3)) + ", outside 0.." + std::to_string(nv - 1));
   }
+}
+
+bool defaultInstance(const ExecutionSpace& exec) {
+#if KOKKOS_VERSION >= 40000
+  return exec.impl_instance_id() == ExecutionSpace().impl_instance_id();
+#else
+  (void)exec;
+  return false;
+#endif
 }
 
 }  // namespace
@@ -112,7 +124,9 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
   Kokkos::parallel_for(
       "rast::api::indices_in", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, 3 * nt),
       KOKKOS_LAMBDA(const int64_t i) { indices(i) = uint32_t(tri(i / 3, i % 3)); });
-  exec.fence();
+  // The renderer draws on the space's default instance: exec's work must be
+  // done first, unless exec is that instance (then the order is the stream's).
+  if (!defaultInstance(exec)) exec.fence();
   ::rast::Camera cam;
   cam.viewProjOverride = glm::dmat4(1.0);
   RenderSettings rs;

@@ -9,7 +9,7 @@
 // Kokkos aborts when a view is freed after Kokkos::finalize, and arrays handed
 // to Python (and contexts) can outlive the interpreter's atexit hooks, so
 // every such object counts itself in liveKokkosObjects(); the module
-// finalises Kokkos at exit only when none is left.
+// finalises Kokkos at exit when none is left, else the last one to go does.
 #pragma once
 
 #include <rast/rast.h>
@@ -31,13 +31,24 @@ inline std::atomic<long>& liveKokkosObjects() {
   static std::atomic<long> n{0};
   return n;
 }
+// Set by the module's exit hook when objects were still alive then: the last
+// of them to go finalises Kokkos (Kokkos complains at process end otherwise).
+inline std::atomic<bool>& finalizeWhenFree() {
+  static std::atomic<bool> pending{false};
+  return pending;
+}
 
-// Counts an object holding Kokkos memory for as long as it lives.
+// Counts an object holding Kokkos memory for as long as it lives. It must be
+// the first member of its holder, so that it goes after the Kokkos memory
+// (members are destroyed last to first).
 struct KokkosHold {
   KokkosHold() { ++liveKokkosObjects(); }
   KokkosHold(const KokkosHold&) { ++liveKokkosObjects(); }
   KokkosHold& operator=(const KokkosHold&) = default;
-  ~KokkosHold() { --liveKokkosObjects(); }
+  ~KokkosHold() {
+    if (--liveKokkosObjects() == 0 && finalizeWhenFree().exchange(false) && Kokkos::is_initialized())
+      Kokkos::finalize();
+  }
 };
 
 // Where the library's memory lives, as DLPack names it.
@@ -127,8 +138,8 @@ class DeviceArray {
  private:
   struct Owned {  // a buffer, counted while it lives
     explicit Owned(Kokkos::View<char*, rast::MemorySpace> v) : view(std::move(v)) {}
+    KokkosHold hold;  // first: destroyed after the view
     Kokkos::View<char*, rast::MemorySpace> view;
-    KokkosHold hold;
   };
   struct Exported {
     DLManagedTensor managed{};

@@ -159,9 +159,9 @@ py::array toNumpy(const DeviceArray& a) {
 
 // nvdiffrast's RasterizeCudaContext: a lib::Rasterizer kept across calls.
 struct RasterizeContext {
+  KokkosHold hold;  // first: destroyed after the Kokkos memory below
   lib::Rasterizer rasterizer;
   rast_python::BufferPool outputs;
-  KokkosHold hold;
 };
 
 // A [N, width] input in the library's memory: the producer's buffer itself
@@ -208,8 +208,10 @@ PYBIND11_MODULE(_rast, m) {
     Kokkos::initialize();
     py::module_::import("atexit").attr("register")(py::cpp_function([] {
       // Arrays and contexts still alive are freed after this hook, and Kokkos
-      // aborts on a view freed after finalize: then the process ends without it.
-      if (Kokkos::is_initialized() && rast_python::liveKokkosObjects() == 0) Kokkos::finalize();
+      // aborts on a view freed after finalize: then the last of them finalises.
+      if (!Kokkos::is_initialized()) return;
+      if (rast_python::liveKokkosObjects() == 0) Kokkos::finalize();
+      else rast_python::finalizeWhenFree() = true;
     }));
   }
   py::register_exception_translator([](std::exception_ptr p) {
@@ -258,6 +260,8 @@ PYBIND11_MODULE(_rast, m) {
            })
       .def_property_readonly("shape", [](const DeviceArray& a) { return py::tuple(py::cast(a.shape())); })
       .def_property_readonly("dtype", [](const DeviceArray& a) { return rast_python::describe(a.dtype()); })
+      .def_property_readonly("data_ptr", [](const DeviceArray& a) { return reinterpret_cast<uintptr_t>(a.data<void>()); },
+                             "the buffer's address (in the build's memory space)")
       .def("numpy", &toNumpy, "a numpy array: the same buffer in CPU builds, a copy in host memory in GPU builds")
       .def("__repr__", [](const DeviceArray& a) {
         std::string s = "rast.DeviceArray(shape=(";

@@ -108,7 +108,7 @@ void alphaWorkLists(const DeviceScene&, FrameBuffers& f, const BlendPlan& b) {
 
 void rasterMask(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p) {
   const uint32_t threads = persistentThreads();
-  Kokkos::parallel_for("rast::blend::mask", lightweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, threads)),
+  Kokkos::parallel_for("rast::blend::mask", heavyweight(Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, threads)),
                        MaskRaster{makeAlphaScene(s, f, p.filter, p.perspective != 0), f.blend.maskStart, f.blend.totals,
                                   f.vis, f.counters, f.vp, f.triCapacity, threads});
 }

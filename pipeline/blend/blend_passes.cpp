@@ -326,21 +326,21 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
             int32_t(b.method), kCount, b.k};
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
   if (!exact) {
-    Kokkos::parallel_for("rast::blend::collect", lightweight(Policy(0, threads)), c);
+    Kokkos::parallel_for("rast::blend::collect", heavyweight(Policy(0, threads)), c);
     return;
   }
-  Kokkos::parallel_for("rast::blend::count", lightweight(Policy(0, threads)), c);
+  Kokkos::parallel_for("rast::blend::count", heavyweight(Policy(0, threads)), c);
   Kokkos::parallel_scan("rast::blend::layout", Kokkos::RangePolicy<Exec, Kokkos::IndexType<int64_t>>(0, int64_t(n)),
                         CountScan{bb.count, bb.end, bb.totals, uint64_t(n)});
   c.pass = kWrite;
-  Kokkos::parallel_for("rast::blend::write", lightweight(Policy(0, threads)), c);
+  Kokkos::parallel_for("rast::blend::write", heavyweight(Policy(0, threads)), c);
 }
 
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                   const BlendPlan& b) {
   const BlendBuffers& bb = f.blend;
   const int32_t runs = (f.vp.width + kResolveRun - 1) / kResolveRun;
-  Kokkos::parallel_for("rast::blend::resolve", lightweight(Range(0, int64_t(runs) * f.vp.height)),
+  Kokkos::parallel_for("rast::blend::resolve", heavyweight(Range(0, int64_t(runs) * f.vp.height)),
                        Resolve{makeFragShade(s, f, p, lights), f.post.hdr, bb.accum, bb.reveal, bb.count, bb.end,
                                bb.frags, bb.slots, bb.fragCapacity, f.vp.width, int32_t(b.method), b.k, runs});
 }

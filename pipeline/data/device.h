@@ -36,6 +36,20 @@ auto lightweight(const Policy& p) {
   return Kokkos::Experimental::require(p, Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
 
+// Marks a kernel's policy so that its functor is copied to device memory and
+// the kernel reads it there. For kernels whose code nvcc leaves partly out of
+// line (the general shading kernel, the blend passes): a call out of line
+// needs its `this` in addressable memory, and a functor that travels as a
+// kernel argument is then copied to every thread's stack first (2.2 KB a
+// thread for the shading functor: the H100's glTF-shaded frames took 0.46 ms
+// to Blinn-Phong's 0.03). Kokkos copies the functor with an asynchronous copy
+// from host memory before each launch, which a recorded frame cannot replay:
+// frames with such a kernel are launched directly (Renderer::render).
+template <class Policy>
+auto heavyweight(const Policy& p) {
+  return Kokkos::Experimental::require(p, Kokkos::Experimental::WorkItemProperty::HintHeavyWeight);
+}
+
 // Every pipeline buffer is allocated through these helpers, which count the
 // allocations (allocation_epoch.h): a recorded frame whose buffers moved must
 // not be replayed.

@@ -252,11 +252,17 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   uint64_t visClear = frame_.visClear ? 1 : 0;
 
   if (timer) timer->start();
-  if (split_) {  // launched directly: the split's exchange waits on the host
+  // Launched directly: the split's exchange waits on the host; heavyweight
+  // kernels (the general shading kernel, the MASK and BLEND passes on a GPU:
+  // pipeline/data/device.h) copy their functors before launch, which a
+  // recorded frame would not redo.
+  const bool heavy = kOnDevice && (plan_.blend.mask || plan_.blend.blend ||
+                                   !shadeTakesLitKernel(plan_.shadeParams, plan_.samples));
+  if (split_ || heavy) {
     Kokkos::View<const mat4f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(upload_.data(), upload_.size());
     Kokkos::deep_copy(Kokkos::subview(frame_.uploaded, std::make_pair(size_t(0), upload_.size())), h);
     launchFrame(plan_, timer);
-    if (plan_.film && !supersampling_ && split_->holdsFrame()) runPost(cam, rs, timer);
+    if (plan_.film && !supersampling_ && (!split_ || split_->holdsFrame())) runPost(cam, rs, timer);
     return;
   }
   // The camera reaches the kernels through device memory, copied first; the

@@ -43,4 +43,9 @@ struct ShadeParams {
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
 
+// Whether a frame of p with `samples` coverage samples a pixel is shaded by
+// the lit kernel (Lambert or Blinn-Phong straight to 8-bit colour, one sample)
+// or by the general one, which launches heavyweight (device.h).
+bool shadeTakesLitKernel(const ShadeParams& p, int samples);
+
 }  // namespace rast

@@ -30,6 +30,10 @@ struct DepthRange {
 
 // The per-pixel kernel, which clears the visibility buffer behind it
 // (FrameBuffers::visClear).
+// The GPU's layout (a warp shades a 32-pixel-wide tile, kShadeInterleave rows),
+// with one sample a pixel and runs of one pixel.
+bool interleavedLayout(int run, int samples) { return kShadeInterleave > 1 && run == 1 && samples == 1; }
+
 void launchShade(Shade k, const Range& items) {
   k.clearVis = 1;
   // On a GPU the fragment shader keeps one triangle's data (TriFrag) live:
@@ -52,9 +56,9 @@ void launchShade(Shade k, const Range& items) {
     Kokkos::parallel_for("rast::shade::lit", lightweight(Bounded(items.begin(), items.end())),
                          shading::ShadeInterleaved<true, 0>{k});
   else if (k.interleaved)
-    Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), shading::ShadeInterleaved<false>{k});
+    Kokkos::parallel_for("rast::shade", heavyweight(Bounded(items.begin(), items.end())), shading::ShadeInterleaved<false>{k});
   else
-    Kokkos::parallel_for("rast::shade", lightweight(Bounded(items.begin(), items.end())), k);
+    Kokkos::parallel_for("rast::shade", heavyweight(Bounded(items.begin(), items.end())), k);
 }
 
 }  // namespace
@@ -116,12 +120,19 @@ shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParam
   k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
   k.runsPerRow = (f.vp.width + k.run - 1) / k.run;
   k.height = f.vp.height;
-  k.interleaved = kShadeInterleave > 1 && k.run == 1 && f.vp.samples.count == 1;
+  k.interleaved = interleavedLayout(k.run, f.vp.samples.count);
   k.blockFrame = f.blockFrame;
   k.blockDepth = f.blockDepth;
   const uint32_t numBlocks = visBlocks(f.vp, k.blocksPerRow);
   k.resetBlocks = f.blockDepth.data() && f.blockDepth.extent(0) >= numBlocks ? 1 : 0;
   return k;
+}
+
+bool shadeTakesLitKernel(const ShadeParams& p, int samples) {
+  shading::Shade k{};
+  k.p = p;
+  k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
+  return interleavedLayout(k.run, samples) && k.litOnly() && !testHooks().generalShade;
 }
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {

@@ -183,12 +183,9 @@ def _producer(x, name, dtype, shapes):
         if not x.is_contiguous():
             raise ValueError(f"{name}: the tensor is not contiguous (strides {tuple(x.stride())}); "
                              f"pass {name}.contiguous()")
-        if x.device.type == "cuda":
-            if not on_device:
-                raise ValueError(f"{name}: the tensor is on device {x.device}; this rast build ({backend}) "
-                                 f"takes host memory: move it with .cpu()")
-            import torch
-            torch.cuda.current_stream(x.device).synchronize()  # its producer's work done before rast reads it
+        if x.device.type == "cuda" and not on_device:
+            raise ValueError(f"{name}: the tensor is on device {x.device}; this rast build ({backend}) "
+                             f"takes host memory: move it with .cpu()")
         return x
     if hasattr(x, "__dlpack__") and not isinstance(x, np.ndarray) and hasattr(x, "__dlpack_device__"):
         dev = x.__dlpack_device__()
@@ -231,6 +228,11 @@ def rasterize(pos, tri, resolution, context=None, output="auto"):
         h, w = (int(v) for v in resolution)
     except (TypeError, ValueError):
         raise ValueError(f"resolution: expected (height, width), got {resolution!r}") from None
+    for x in (p, t):  # work queued on torch's stream done before rast reads the tensors (once per device)
+        if _is_torch(x) and x.device.type == "cuda":
+            import torch
+            torch.cuda.current_stream(x.device).synchronize()
+            break
     out, ids = _rast._rasterize(_context(context), p, t, h, w)
     if output == "auto":
         output = "torch" if torch_in else "numpy" if numpy_in or not on_device else "dlpack"

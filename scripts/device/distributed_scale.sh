@@ -88,6 +88,7 @@ for n in 1 2 4; do
   mpirun --oversubscribe -np "$n" "$rast" render builtin:default --size 640x480 --cameras "$out/cams1000.json" \
     -o "$out/views/v${n}_%04d.png" --distribute > /dev/null 2>&1
   end=$(date +%s.%N)
-  echo "many views: 1000 views on $n ranks: $(python3 -c "print(f'{$end - $start:.2f}')") s" | tee -a "$summary"
+  echo "many views: 1000 views on $n ranks: $(python3 -c "print(f'{$end - $start:.2f}')") s, $(ls "$out/views" | wc -l) files" | tee -a "$summary"
+  rm -f "$out"/views/v*_0[1-9]*.png  # keep the first 100 of each run, not 1000 (what comes back is limited)
 done
 echo "summary: $summary"

@@ -99,12 +99,26 @@ def main():
         cov_agree = float(((nv_ids >= 0) == (ri >= 0)).float().mean().item())
         id_agree = float((nv_ids[both] == ri[both]).float().mean().item()) if both.any() else 1.0
         same_channel3 = bool(torch.equal(ra_out[0, :, :, 3], (ri + 1).to(torch.float32)))
+        # Where both cover a pixel with different triangles: is it a depth tie
+        # (the two winners' z/w equal to float precision), which each resolves
+        # by its own rule (rast: the lower index; nvdiffrast: whichever lands)?
+        differ = (nv_ids >= 0) & (ri >= 0) & (nv_ids != ri)
+        n_differ = int(differ.sum().item())
+        if n_differ:
+            zn, zr = nv_out[0, :, :, 2][differ], ra_out[0, :, :, 2][differ]
+            rel = (zn - zr).abs() / zr.abs().clamp_min(1e-30)
+            ties = float((rel <= 1e-6).float().mean().item())
+            max_rel = float(rel.max().item())
+        else:
+            ties, max_rel = 1.0, 0.0
         row = {"scene": name, "size": a.size, "triangles": int(len(tri)), "nvdiffrast_ms": nv_ms, "rast_ms": ra_ms,
                "nvdiffrast_min_ms": nv_min, "rast_min_ms": ra_min, "rast_over_nvdiffrast": ra_ms / nv_ms,
-               "coverage_agree": cov_agree, "id_agree_covered": id_agree, "rast_channel3_is_id": same_channel3}
+               "coverage_agree": cov_agree, "id_agree_covered": id_agree, "rast_channel3_is_id": same_channel3,
+               "ids_differ": n_differ, "differ_at_depth_ties": ties, "differ_max_rel_zw": max_rel}
         rows.append(row)
         print(f"{name:>12} tris={len(tri):>8} nvdiffrast={nv_ms:.4f} ms rast={ra_ms:.4f} ms "
-              f"ratio={ra_ms / nv_ms:.3f} coverage_agree={cov_agree:.6f} ids_agree={id_agree:.6f}", flush=True)
+              f"ratio={ra_ms / nv_ms:.3f} coverage_agree={cov_agree:.6f} ids_agree={id_agree:.6f} "
+              f"differ={n_differ} of_them_ties={ties:.3f} max_rel_zw={max_rel:.2e}", flush=True)
     with open(a.out, "w", newline="") as f:
         wr = csv.DictWriter(f, fieldnames=list(rows[0].keys()) if rows else ["scene"])
         wr.writeheader()

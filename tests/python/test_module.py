@@ -35,6 +35,13 @@ import rast  # noqa: E402
 failed = 0
 
 
+def render(*a, **k):
+    """rast.render with numpy outputs (a GPU build's default is rast.DeviceArray: copied to the host here)."""
+    k.setdefault("output", "numpy")
+    return rast.render(*a, **k)
+
+
+
 def check(ok, what):
     global failed
     print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
@@ -69,7 +76,7 @@ print(f"rast {rast.__version__}, {rast.backend} backend, on device: {rast.on_dev
 
 # ---- render against the command line
 W, H = 96, 64
-out = rast.render(None, size=(W, H))
+out = render(None, size=(W, H))
 check(out["color"].shape == (H, W, 4) and out["color"].dtype == np.uint8, f"color {out['color'].shape} uint8")
 check(out["depth"].shape == (H, W) and out["depth"].dtype == np.float32, "depth [H,W] float32")
 check(out["ids"].shape == (H, W) and out["ids"].dtype == np.int64, "ids [H,W] int64")
@@ -85,7 +92,7 @@ if r.returncode == 0:
     _, _, _, d = rastimg.read_pfm(wd("cli_depth.pfm"))
     check(np.array_equal(np.array(d, np.float32).reshape(H, W)[::-1], out["depth"]), "depth == the CLI's --aov depth")
 check((out["ids"] >= 0).any() and (out["ids"] == -1).any(), "the default scene covers some pixels, not all")
-n = rast.render("builtin:bigtri", size=(32, 24), normals=True)
+n = render("builtin:bigtri", size=(32, 24), normals=True)
 check(n["normals"].shape == (24, 32, 3) and np.isfinite(n["normals"]).all(), "normals [H,W,3]")
 
 # frame barycentrics: the weights of the pixel's triangle's corners, which rebuild
@@ -94,7 +101,7 @@ P = np.array([[1.2, 0, 0, 0], [0, 1.8, 0, 0], [0, 0, -1.02, -0.202], [0, 0, -1, 
 world = np.array([[-1, -1, -3], [1.5, -1, -4], [0, 1.5, -2], [-2, 0.5, -6], [1, 1, -5], [0.5, -1.5, -2.5]], np.float32)
 pcam = rast.Camera()
 pcam.view_projection = list(P.T.reshape(-1))  # column-major
-fb = rast.render({"positions": world, "indices": [[0, 1, 2], [3, 4, 5]]}, camera=pcam, size=(80, 60), barycentrics=True)
+fb = render({"positions": world, "indices": [[0, 1, 2], [3, 4, 5]]}, camera=pcam, size=(80, 60), barycentrics=True)
 bary, fid = fb["barycentrics"], fb["ids"]
 hit = fid >= 0
 check(hit.sum() > 100 and np.all(bary[~hit] == 0), f"barycentrics [H,W,3], zero where empty ({hit.sum()} pixels hit)")
@@ -131,7 +138,7 @@ check(np.all(o[~cov] == 0), "empty pixels are all zero")
 cam = rast.Camera()
 cam.view_projection = [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0]
 ndc = pos[:, :3] / pos[:, 3:]
-ref = rast.render({"positions": ndc, "indices": tri.astype(np.uint32)}, camera=cam, size=(RW, RH))
+ref = render({"positions": ndc, "indices": tri.astype(np.uint32)}, camera=cam, size=(RW, RH))
 check(np.array_equal(ref["ids"][::-1], ids), "rasterize ids == the renderer's ids for the same triangles")
 zw_from_depth = 2.0 * ref["depth"][::-1].astype(np.float64) - 1.0
 check(np.abs(zw_from_depth[cov] - o[..., 2][cov]).max() < 2e-4, "z/w == 2 * the renderer's window depth - 1")
@@ -235,19 +242,23 @@ check(not np.array_equal(r2[1], r1[1]) and np.array_equal(r2[1], f2[1]) and np.a
 check(np.array_equal(r3[1], f3[1]) and np.array_equal(r3[0], f3[0]), "new triangles, same counts: == a fresh one")
 # Output buffers: a context reuses one only once nothing outside holds it.
 keep = rast.rasterize(pos, tri, (RH, RW), context=ctx, output="dlpack")
-addr = keep[1].numpy().ctypes.data
+addr = keep[1].data_ptr
+check(rast.on_device or keep[1].numpy().ctypes.data == addr, "DeviceArray.data_ptr is its buffer's address")
 again = rast.rasterize(moved, tri, (RH, RW), context=ctx, output="dlpack")
-check(again[1].numpy().ctypes.data != addr and np.array_equal(keep[1].numpy()[0], ids),
+check(again[1].data_ptr != addr and np.array_equal(keep[1].numpy()[0], ids),
       "an output still held is never handed out again (the first call's ids intact)")
 del keep, again
 reuse = rast.rasterize(pos, tri, (RH, RW), context=ctx, output="dlpack")
-check(reuse[1].numpy().ctypes.data == addr and np.array_equal(reuse[1].numpy()[0], ids),
+check(reuse[1].data_ptr == addr and np.array_equal(reuse[1].numpy()[0], ids),
       "a released output buffer is reused by the next call")
-held = np.from_dlpack(reuse[1]) if not rast.on_device else reuse[1].numpy()
-del reuse
-again = rast.rasterize(moved, tri, (RH, RW), context=ctx, output="dlpack")
-check(rast.on_device or again[1].numpy().ctypes.data != addr, "a numpy view of an output keeps it from reuse")
-del held, again
+if not rast.on_device:
+    held = np.from_dlpack(reuse[1])
+    del reuse
+    again = rast.rasterize(moved, tri, (RH, RW), context=ctx, output="dlpack")
+    check(again[1].data_ptr != addr, "a numpy view of an output keeps it from reuse")
+    del held, again
+else:
+    del reuse
 r4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=ctx)
 f4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=rast.RasterizeContext())
 check(r4[1].shape == (1, RH // 2, RW) and np.array_equal(r4[1], f4[1]), "other counts and size: rebuilt, == a fresh one")
@@ -298,18 +309,31 @@ if torch is None:
 else:
     tp, tt = torch.from_numpy(pos), torch.from_numpy(tri)
     ot, it = rast.rasterize(tp, tt, (RH, RW))
+    it = it.cpu()  # a GPU build answers with tensors on its GPU
     check(isinstance(ot, torch.Tensor) and torch.equal(it[0], torch.from_numpy(ids)), "torch tensors in and out")
     raises(ValueError, ["contiguous"], rast.rasterize, tp.t().contiguous().t(), tt, (RH, RW))
     raises(TypeError, ["pos", "float32", "float64"], rast.rasterize, tp.double(), tt, (RH, RW))
     ta = torch.from_dlpack(idd)
-    check(torch.equal(ta[0], torch.from_numpy(ids)) and ta.data_ptr() == torch.from_dlpack(idd).data_ptr(),
+    check(torch.equal(ta[0].cpu(), torch.from_numpy(ids)) and ta.data_ptr() == idd.data_ptr
+          and torch.from_dlpack(idd).data_ptr() == idd.data_ptr,
           "torch.from_dlpack shares a DeviceArray's buffer (no copy)")
     tr = rast.render(None, size=(W, H), output="torch")
-    check(isinstance(tr["depth"], torch.Tensor) and torch.equal(tr["ids"], torch.from_numpy(out["ids"])),
+    check(isinstance(tr["depth"], torch.Tensor) and torch.equal(tr["ids"].cpu(), torch.from_numpy(out["ids"])),
           "render(output='torch') gives tensors")
     check(rast._producer(tp, "pos", np.float32, [("V", 4)]) is tp, "a torch tensor goes to the module as it is")
     tg = tp.clone().requires_grad_(True)
-    check(torch.equal(rast.rasterize(tg, tt, (RH, RW))[1], it), "a tensor that requires grad is read (detached)")
+    check(torch.equal(rast.rasterize(tg, tt, (RH, RW))[1].cpu(), it), "a tensor that requires grad is read (detached)")
     if torch.cuda.is_available() and not rast.on_device:
         raises(ValueError, ["device"], rast.rasterize, tp.cuda(), tt, (RH, RW))
+    if torch.cuda.is_available() and rast.on_device:
+        # A CUDA build with CUDA tensors: read in place, answered on the same GPU.
+        tpc, ttc = tp.cuda(), tt.cuda()
+        oc, ic = rast.rasterize(tpc, ttc, (RH, RW))
+        check(ic.is_cuda and oc.is_cuda and torch.equal(ic.cpu(), it) and torch.equal(oc.cpu(), ot.cpu()),
+              "CUDA tensors in, CUDA tensors out, the same ids and (u, v, z/w, id + 1)")
+        check(rast._producer(tpc, "pos", np.float32, [("V", 4)]) is tpc, "a CUDA tensor goes to the module as it is")
+        od2, id2 = rast.rasterize(tpc, ttc, (RH, RW), output="dlpack")
+        check(id2.__dlpack_device__() == (2, rast.device_index) and torch.from_dlpack(id2).data_ptr() == id2.data_ptr,
+              "outputs on the GPU (DLPack device 2), shared with torch without a copy")
+        raises(ValueError, ["contiguous"], rast.rasterize, tpc.t().contiguous().t(), ttc, (RH, RW))
 sys.exit(1 if failed else 0)
