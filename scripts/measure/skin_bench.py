@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """What skinning costs the vertex stage: the same grid mesh (N x N vertices) drawn plain and
-skinned (4 joints a vertex, weights not all equal, a bent pose), timed by `rast bench --json`.
+skinned (4 joints a vertex, weights not all equal), bent and at rest (the same geometry as
+the plain mesh, so the frames differ by the skinning alone), timed by `rast bench --json`.
 
 Why: docs/animation.md promises that skinning keeps the vertex stage within 2x of the unskinned
 one on the CPU (issue #40) and that scenes without skins pay nothing; this measures both.
@@ -12,7 +13,7 @@ Writes the two .glb files into a temporary folder; prints the vertex stage and f
 import argparse, csv, json, math, os, struct, subprocess, tempfile
 
 
-def grid_glb(path, n, skinned):
+def grid_glb(path, n, skinned, bent=True):
     nv = n * n
     pos = bytearray()
     for y in range(n):
@@ -46,7 +47,9 @@ def grid_glb(path, n, skinned):
         acc += [{'bufferView': 3, 'componentType': 5123, 'count': nv, 'type': 'VEC4'},
                 {'bufferView': 4, 'componentType': 5126, 'count': nv, 'type': 'VEC4'},
                 {'bufferView': 5, 'componentType': 5126, 'count': 4, 'type': 'MAT4'}]
-        c, s = math.cos(0.15), math.sin(0.15)
+        # bent=False: the joints at their bind pose, so the skinned mesh lies
+        # where the plain one does and the frames differ by the skinning alone.
+        c, s = (math.cos(0.15), math.sin(0.15)) if bent else (1.0, 0.0)
         doc['nodes'] = [{'mesh': 0, 'skin': 0}, {'children': [2], 'translation': [-1, 0, 0]},
                         {'children': [3], 'translation': [2 / 3, 0, 0], 'rotation': [0, 0, s, c]},
                         {'children': [4], 'translation': [2 / 3, 0, 0], 'rotation': [0, 0, s, c]},
@@ -75,9 +78,9 @@ def main():
     a = ap.parse_args()
     work = tempfile.mkdtemp(prefix='skin_bench_')
     rows = []
-    for skinned in (False, True):
-        glb = os.path.join(work, f'grid_{"skinned" if skinned else "plain"}.glb')
-        grid_glb(glb, a.n, skinned)
+    for name, skinned, bent in (('plain', False, False), ('skinned', True, True), ('skinned-rest', True, False)):
+        glb = os.path.join(work, f'grid_{name}.glb')
+        grid_glb(glb, a.n, skinned, bent)
         js = os.path.join(work, 'rows.json')
         cam = ['--eye', '0,0,3', '--target', '0,0,0', '--up', '0,1,0', '--near', '0.1', '--far', '10']
         subprocess.run([a.rast, 'bench', glb, '--size', a.size, '--frames', str(a.frames), '--warmup', '3', '--json', js,
@@ -85,11 +88,14 @@ def main():
         row = json.load(open(js))
         row = row[0] if isinstance(row, list) else row
         stages = row['stages_median_ms']
-        rows.append({'mesh': 'skinned' if skinned else 'plain', 'vertices': a.n * a.n,
+        rows.append({'mesh': name, 'vertices': a.n * a.n,
                      'vertex_ms': stages.get('vertex'), 'frame_ms': row.get('total_median_ms'), 'device': row.get('device')})
         print(rows[-1])
     if rows[0]['vertex_ms'] and rows[1]['vertex_ms']:
         print(f"skinned / plain vertex stage: {rows[1]['vertex_ms'] / rows[0]['vertex_ms']:.2f}x")
+    if rows[0]['frame_ms'] and rows[2]['frame_ms']:
+        print(f"skinning adds {rows[2]['frame_ms'] - rows[0]['frame_ms']:.4f} ms to the frame (the same geometry, "
+              f"at rest; vertex stage +{rows[2]['vertex_ms'] - rows[0]['vertex_ms']:.4f} ms)")
     if a.out:
         with open(a.out, 'w', newline='') as f:
             w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
