@@ -140,20 +140,32 @@ py::dict render(const lib::Scene& scene, const lib::Camera& cam, int width, int 
   return frameArrays(*f, normals, barycentrics);
 }
 
+void copyToHost(void* dst, const char* src, size_t bytes) {
+  Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> d(static_cast<char*>(dst), bytes);
+  Kokkos::View<const char*, MemorySpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> s(src, bytes);
+  Kokkos::deep_copy(d, s);
+}
+
 // A DeviceArray as a numpy array: a writable view of the same buffer in host
 // builds (numpy's own from_dlpack makes read-only ones), a copy in GPU builds.
 py::array toNumpy(const DeviceArray& a) {
   const DLDataType t = a.dtype();
   const py::dtype dt(std::string(t.code == kDLFloat ? "<f" : t.code == kDLInt ? "<i" : "<u") + std::to_string(t.bits / 8));
   const std::vector<py::ssize_t> shape(a.shape().begin(), a.shape().end());
+  // C-order strides given, not left to pybind11: Debian's pybind11 (2.10)
+  // reads the item size from numpy 1's dtype layout, and under numpy 2 (the
+  // H100 machine's) got 0, so every element aliased the first.
+  std::vector<py::ssize_t> strides(shape.size());
+  py::ssize_t step = py::ssize_t(t.bits / 8) * py::ssize_t(t.lanes);
+  for (size_t i = shape.size(); i-- > 0;) {
+    strides[i] = step;
+    step *= shape[i];
+  }
   if (rast_python::libraryDevice().device_type == kDLCPU)
-    return py::array(dt, shape, a.data<void>(), a.keeper());
-  py::array host(dt, shape);
-  const size_t bytes = size_t(host.nbytes());
-  Kokkos::View<char*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> dst(
-      static_cast<char*>(host.mutable_data()), bytes);
-  Kokkos::View<const char*, MemorySpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> src(a.data<const char>(), bytes);
-  Kokkos::deep_copy(dst, src);
+    return py::array(dt, shape, strides, a.data<void>(), a.keeper());
+  py::array host(dt, shape, strides);
+  const size_t bytes = size_t(step);  // not host.nbytes(): the same item size
+  copyToHost(host.mutable_data(), a.data<const char>(), bytes);
   return host;
 }
 
