@@ -188,8 +188,7 @@ glm::dmat4 compose(const glm::dmat4& a, const glm::dmat4& b) {
   return r;
 }
 
-AnimPlan makePlan(const SceneRig& rig) {
-  AnimPlan plan;
+void makePlan(const SceneRig& rig, AnimPlan& plan) {
   const size_t n = rig.nodes.size();
   std::vector<uint8_t> ordered(n, 0);
   for (int32_t i : rig.order) ordered[size_t(i)] = 1;
@@ -220,19 +219,29 @@ AnimPlan makePlan(const SceneRig& rig) {
     plan.restWorld[size_t(i)] = nd.parent >= 0 ? plan.restWorld[size_t(nd.parent)] * local : local;
   }
   plan.owner = &rig;
-  return plan;
 }
 
 }  // namespace
 
-void planAnimations(SceneRig& rig) { rig.plan = makePlan(rig); }
+AnimPlan& AnimPlan::operator=(AnimPlan&&) noexcept {
+  owner = nullptr;
+  selections.clear();
+  restWorld.clear();
+  orderParent.clear();
+  return *this;
+}
+
+void planAnimations(SceneRig& rig) {
+  rig.plan = AnimPlan();
+  makePlan(rig, rig.plan);
+}
 
 void evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<glm::dmat4>& world,
                    std::vector<std::vector<double>>* weights) {
   AnimPlan made;
   const AnimPlan* plan = &rig.plan;
   if (plan->owner != &rig) {
-    made = makePlan(rig);
+    makePlan(rig, made);
     plan = &made;
   }
   const size_t n = rig.nodes.size();

@@ -104,8 +104,16 @@ struct NodeDrivers {
 // pose walks flat arrays: per selection, the nodes it drives, each sampled by
 // one thread; and every node's world matrix at rest, which nodes outside the
 // driven subtrees keep.
+// A copied or moved plan comes out empty: its views would point into the
+// keys of the rig it was made for, so only that rig uses it (a copy of a rig
+// plans again on every evaluation until planAnimations is called on it).
 struct AnimPlan {
-  const struct SceneRig* owner = nullptr;  // the rig planned (its samplers' keys are viewed in place); another: replan
+  AnimPlan() = default;
+  AnimPlan(const AnimPlan&) {}
+  AnimPlan(AnimPlan&&) noexcept {}
+  AnimPlan& operator=(const AnimPlan&) { return *this = AnimPlan(); }
+  AnimPlan& operator=(AnimPlan&&) noexcept;
+  const struct SceneRig* owner = nullptr;  // the rig planned: evaluating another plans afresh
   std::vector<std::vector<NodeDrivers>> selections;  // [0]: every animation at once; [1 + a]: animation a alone
   std::vector<glm::dmat4> restWorld;                 // per node (kNoAnimation's world matrices)
   std::vector<int32_t> orderParent;                  // per SceneRig::order entry, its node's parent
