@@ -257,25 +257,10 @@ void evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<glm::d
   // Sampling: each driven node's channels by one thread, its local matrix
   // left in world[node] for the pass below.
   const long m = long(drv.size());
-  const double time = r.time;
   // Threads only for thousands of nodes: a parallel region costs a few
   // microseconds, and on a busy machine a thread may wait for its core.
 #pragma omp parallel for schedule(static) if (m >= 2048)
   for (long k = 0; k < m; ++k) {
-    // The keys a few nodes ahead are asked for now: they lie all over memory,
-    // and the guess of their interval needs no trip there.
-    constexpr long kAhead = 8;
-    if (k + kAhead < m) {
-      const NodeDrivers& ahead = drv[size_t(k + kAhead)];
-      for (int p = 0; p < 4; ++p) {
-        const SamplerView& sv = ahead.sampler[p];
-        if (!((ahead.driven >> p) & 1u) || sv.n < 2 || !(time > sv.first) || !(time < sv.last)) continue;
-        const uint32_t g = guessKey(sv, time), stride = sv.interp == Interpolation::CubicSpline ? 3 * sv.comps : sv.comps;
-        __builtin_prefetch(sv.times + g);
-        __builtin_prefetch(sv.values + size_t(g) * stride);
-        __builtin_prefetch(sv.values + size_t(g + 1) * stride + sv.comps - 1);
-      }
-    }
     const NodeDrivers& d = drv[size_t(k)];
     const RigNode& nd = rig.nodes[size_t(d.node)];
     auto drives = [&](AnimPath p) { return (d.driven >> int(p)) & 1u; };
