@@ -345,7 +345,9 @@ class RigBuilder {
 }  // namespace
 
 void buildRig(const tinygltf::Model& m, LoadContext& ctx, Scene& s, const WalkRecord& w) {
-  s.rig = RigBuilder(m, ctx, s, w).build();
+  std::shared_ptr<SceneRig> rig = RigBuilder(m, ctx, s, w).build();
+  if (rig) planAnimations(*rig);  // channels resolved once, for every pose
+  s.rig = rig;
   if (s.rig) poseScene(s, PoseRequest{0.0, kNoAnimation});  // the rest pose: skins and default morph weights applied
 }
 

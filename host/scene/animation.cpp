@@ -2,7 +2,8 @@
 // quaternion slerp, CUBICSPLINE with tangents scaled by the key interval),
 // node transforms down the hierarchy, then the pose written into the Scene:
 // morph targets, then skinning (glTF 2.0, 3.7.3 and 3.11). Double precision
-// throughout and no threads, so a time gives the same pose on every backend.
+// throughout, each node sampled by one thread, so a time gives the same pose
+// on every backend and with any number of threads.
 #include "host/scene/animation.h"
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 
 namespace rast {
 
@@ -58,6 +60,24 @@ void slerp(const double* a, const double* b0, double u, double* out) {
     for (int k = 0; k < 4; ++k) out[k] /= len;
 }
 
+// The key interval [k, k+1) holding t, for times[0] < t < times[n-1]: first
+// guessed as if the keys were evenly spaced (exported animations mostly are),
+// then its neighbours, then a binary search. The same k whichever finds it.
+uint32_t guessKey(const SamplerView& s, double t) {
+  return uint32_t(std::clamp((t - s.first) * s.keysPerSecond, 0.0, double(s.n - 2)));
+}
+
+uint32_t keyBefore(const SamplerView& s, double t) {
+  const float* times = s.times;
+  const uint32_t n = s.n;
+  const uint32_t g = guessKey(s, t);
+  auto holds = [&](uint32_t k) { return double(times[k]) <= t && t < double(times[k + 1]); };
+  if (holds(g)) return g;
+  if (g + 2 < n && holds(g + 1)) return g + 1;
+  if (g > 0 && holds(g - 1)) return g - 1;
+  return uint32_t(std::upper_bound(times, times + n, t, [](double a, float b) { return a < double(b); }) - times) - 1;
+}
+
 void normalise4(double* q) {
   const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (len > 0.0)
@@ -66,19 +86,23 @@ void normalise4(double* q) {
 
 }  // namespace
 
-void sampleAt(const AnimSampler& s, double t, bool rotation, double* out) {
-  const uint32_t c = s.comps, n = uint32_t(s.times.size());
+namespace {
+
+// sampleView's arithmetic with the component count known when C != 0 (3 for
+// translations and scales, 4 for rotations), so that its loops unroll.
+template <uint32_t C>
+void sampleComps(const SamplerView& s, double t, bool rotation, double* out) {
+  const uint32_t c = C ? C : s.comps, n = s.n;
   const bool cubic = s.interp == Interpolation::CubicSpline;
   const uint32_t stride = cubic ? 3 * c : c, valueAt = cubic ? c : 0;  // a key's value after its in-tangent
   auto value = [&](uint32_t k, uint32_t j) { return double(s.values[size_t(k) * stride + valueAt + j]); };
   if (n == 0) return;
-  if (!(t > s.times[0]) || n == 1) {
+  if (!(t > s.first) || n == 1) {
     for (uint32_t j = 0; j < c; ++j) out[j] = value(0, j);
-  } else if (t >= s.times[n - 1]) {
+  } else if (t >= s.last) {
     for (uint32_t j = 0; j < c; ++j) out[j] = value(n - 1, j);
   } else {
-    // The key interval [k, k+1) holding t.
-    const uint32_t k = uint32_t(std::upper_bound(s.times.begin(), s.times.end(), t, [](double a, float b) { return a < double(b); }) - s.times.begin()) - 1;
+    const uint32_t k = keyBefore(s, t);
     const uint32_t k1 = std::min(k + 1, n - 1);
     const double t0 = s.times[k], t1 = s.times[k1], dt = t1 - t0;
     const double u = dt > 0.0 ? std::clamp((t - t0) / dt, 0.0, 1.0) : 0.0;
@@ -109,48 +133,183 @@ void sampleAt(const AnimSampler& s, double t, bool rotation, double* out) {
   if (rotation && c == 4) normalise4(out);
 }
 
-std::vector<glm::dmat4> evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<std::vector<double>>* weights) {
+}  // namespace
+
+void sampleView(const SamplerView& s, double t, bool rotation, double* out) {
+  if (s.comps == 3) sampleComps<3>(s, t, rotation, out);
+  else if (s.comps == 4) sampleComps<4>(s, t, rotation, out);
+  else sampleComps<0>(s, t, rotation, out);
+}
+
+SamplerView viewOf(const AnimSampler& s) {
+  SamplerView v;
+  v.times = s.times.data();
+  v.values = s.values.data();
+  v.n = uint32_t(s.times.size());
+  v.comps = s.comps;
+  v.interp = s.interp;
+  if (v.n) {
+    v.first = s.times.front();
+    v.last = s.times.back();
+    v.keysPerSecond = double(v.n - 1) / (double(v.last) - double(v.first));
+  }
+  return v;
+}
+
+void sampleAt(const AnimSampler& s, double t, bool rotation, double* out) { sampleView(viewOf(s), t, rotation, out); }
+
+namespace {
+
+// A node's local matrix from its T R S (built directly: columns of R scaled,
+// T in the last), or its own matrix.
+glm::dmat4 localMatrix(const RigNode& nd, const glm::dvec3& tr, const glm::dquat& rot, const glm::dvec3& sc) {
+  if (nd.hasMatrix) return nd.matrix;
+  const glm::dmat3 r = glm::mat3_cast(glm::normalize(rot));
+  return glm::dmat4(glm::dvec4(r[0] * sc.x, 0.0), glm::dvec4(r[1] * sc.y, 0.0), glm::dvec4(r[2] * sc.z, 0.0), glm::dvec4(tr, 1.0));
+}
+
+// parent * local, glm's operator* with two rows at a time (GCC/Clang vector
+// extensions, SSE2 on x86-64): the same products and sums in the same order,
+// so the same bits, in about half the instructions.
+glm::dmat4 compose(const glm::dmat4& a, const glm::dmat4& b) {
+  typedef double Pair __attribute__((vector_size(16)));
+  Pair lo[4], hi[4];
+  for (int c = 0; c < 4; ++c) {
+    std::memcpy(&lo[c], &a[c][0], sizeof(Pair));
+    std::memcpy(&hi[c], &a[c][2], sizeof(Pair));
+  }
+  glm::dmat4 r;
+  for (int c = 0; c < 4; ++c) {
+    const Pair rl = lo[0] * b[c][0] + lo[1] * b[c][1] + lo[2] * b[c][2] + lo[3] * b[c][3];
+    const Pair rh = hi[0] * b[c][0] + hi[1] * b[c][1] + hi[2] * b[c][2] + hi[3] * b[c][3];
+    std::memcpy(&r[c][0], &rl, sizeof(Pair));
+    std::memcpy(&r[c][2], &rh, sizeof(Pair));
+  }
+  return r;
+}
+
+void makePlan(const SceneRig& rig, AnimPlan& plan) {
   const size_t n = rig.nodes.size();
-  std::vector<glm::dvec3> tr(n), sc(n);
-  std::vector<glm::dquat> rot(n);
-  std::vector<std::vector<double>> w(weights ? n : 0);
-  for (size_t i = 0; i < n; ++i) {
-    tr[i] = rig.nodes[i].translation;
-    rot[i] = rig.nodes[i].rotation;
-    sc[i] = rig.nodes[i].scale;
-    if (weights) w[i] = rig.nodes[i].weights;
-  }
-  for (size_t a = 0; a < rig.animations.size(); ++a) {
-    if (r.animation != kAllAnimations && size_t(r.animation) != a) continue;
-    const Animation& anim = rig.animations[a];
-    for (const AnimChannel& ch : anim.channels) {
-      const AnimSampler& s = anim.samplers[size_t(ch.sampler)];
-      double v[4] = {0, 0, 0, 0};
-      const size_t i = size_t(ch.node);
-      switch (ch.path) {
-        case AnimPath::Translation: sampleAt(s, r.time, false, v); tr[i] = {v[0], v[1], v[2]}; break;
-        case AnimPath::Scale: sampleAt(s, r.time, false, v); sc[i] = {v[0], v[1], v[2]}; break;
-        case AnimPath::Rotation: sampleAt(s, r.time, true, v); rot[i] = glm::dquat(v[3], v[0], v[1], v[2]); break;
-        case AnimPath::Weights:
-          if (!weights) break;
-          w[i].assign(s.comps, 0.0);
-          sampleAt(s, r.time, false, w[i].data());
-          break;
+  std::vector<uint8_t> ordered(n, 0);
+  for (int32_t i : rig.order) ordered[size_t(i)] = 1;
+  std::vector<int32_t> slot(n, -1);  // a node's entry in the selection being resolved
+  auto resolve = [&](size_t from, size_t to) {
+    std::vector<NodeDrivers> out;
+    for (size_t a = from; a < to; ++a)
+      for (const AnimChannel& ch : rig.animations[a].channels) {
+        if (ch.node < 0 || size_t(ch.node) >= n || !ordered[size_t(ch.node)]) continue;  // outside the scene: never drawn
+        int32_t& k = slot[size_t(ch.node)];
+        if (k < 0) {
+          k = int32_t(out.size());
+          out.emplace_back().node = ch.node;
+        }
+        out[size_t(k)].driven |= 1u << int(ch.path);
+        out[size_t(k)].sampler[int(ch.path)] = viewOf(rig.animations[a].samplers[size_t(ch.sampler)]);
       }
-    }
-  }
-  std::vector<glm::dmat4> world(n, glm::dmat4(1.0));
+    for (const NodeDrivers& d : out) slot[size_t(d.node)] = -1;
+    return out;
+  };
+  plan.selections.push_back(resolve(0, rig.animations.size()));
+  for (size_t a = 0; a < rig.animations.size(); ++a) plan.selections.push_back(resolve(a, a + 1));
+  for (int32_t i : rig.order) plan.orderParent.push_back(rig.nodes[size_t(i)].parent);
+  plan.restWorld.assign(n, glm::dmat4(1.0));
   for (int32_t i : rig.order) {
     const RigNode& nd = rig.nodes[size_t(i)];
-    glm::dmat4 local = nd.matrix;
-    if (!nd.hasMatrix) {  // T R S, built directly: columns of R scaled, T in the last
-      const glm::dmat3 r = glm::mat3_cast(glm::normalize(rot[i]));
-      local = glm::dmat4(glm::dvec4(r[0] * sc[i].x, 0.0), glm::dvec4(r[1] * sc[i].y, 0.0), glm::dvec4(r[2] * sc[i].z, 0.0),
-                         glm::dvec4(tr[i], 1.0));
-    }
-    world[i] = nd.parent >= 0 ? world[size_t(nd.parent)] * local : local;
+    const glm::dmat4 local = localMatrix(nd, nd.translation, nd.rotation, nd.scale);
+    plan.restWorld[size_t(i)] = nd.parent >= 0 ? plan.restWorld[size_t(nd.parent)] * local : local;
   }
-  if (weights) *weights = std::move(w);
+  plan.owner = &rig;
+}
+
+}  // namespace
+
+AnimPlan& AnimPlan::operator=(AnimPlan&&) noexcept {
+  owner = nullptr;
+  selections.clear();
+  restWorld.clear();
+  orderParent.clear();
+  return *this;
+}
+
+void planAnimations(SceneRig& rig) {
+  rig.plan = AnimPlan();
+  makePlan(rig, rig.plan);
+}
+
+void evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<glm::dmat4>& world,
+                   std::vector<std::vector<double>>* weights) {
+  AnimPlan made;
+  const AnimPlan* plan = &rig.plan;
+  if (plan->owner != &rig) {
+    makePlan(rig, made);
+    plan = &made;
+  }
+  const size_t n = rig.nodes.size();
+  if (rig.order.size() != n) world.assign(n, glm::dmat4(1.0));  // nodes outside the scene: identity
+  else world.resize(n);
+  if (weights) {
+    weights->resize(n);
+    for (size_t i = 0; i < n; ++i) (*weights)[i] = rig.nodes[i].weights;
+  }
+  static const std::vector<NodeDrivers> kNone;
+  const size_t sel = r.animation == kAllAnimations ? 0 : size_t(r.animation) + 1;
+  const std::vector<NodeDrivers>& drv = r.animation >= kAllAnimations && sel < plan->selections.size() ? plan->selections[sel] : kNone;
+  // Sampling: each driven node's channels by one thread, its local matrix
+  // left in world[node] for the pass below.
+  const long m = long(drv.size());
+  // Threads only for thousands of nodes: a parallel region costs a few
+  // microseconds, and on a busy machine a thread may wait for its core.
+#pragma omp parallel for schedule(static) if (m >= 2048)
+  for (long k = 0; k < m; ++k) {
+    const NodeDrivers& d = drv[size_t(k)];
+    const RigNode& nd = rig.nodes[size_t(d.node)];
+    auto drives = [&](AnimPath p) { return (d.driven >> int(p)) & 1u; };
+    auto samplerOf = [&](AnimPath p) -> const SamplerView& { return d.sampler[int(p)]; };
+    glm::dvec3 tr = nd.translation, sc = nd.scale;
+    glm::dquat rot = nd.rotation;
+    double v[4] = {0, 0, 0, 0};
+    if (drives(AnimPath::Translation)) {
+      sampleView(samplerOf(AnimPath::Translation), r.time, false, v);
+      tr = {v[0], v[1], v[2]};
+    }
+    if (drives(AnimPath::Rotation)) {
+      sampleView(samplerOf(AnimPath::Rotation), r.time, true, v);
+      rot = glm::dquat(v[3], v[0], v[1], v[2]);
+    }
+    if (drives(AnimPath::Scale)) {
+      sampleView(samplerOf(AnimPath::Scale), r.time, false, v);
+      sc = {v[0], v[1], v[2]};
+    }
+    if (weights && drives(AnimPath::Weights)) {
+      const SamplerView& s = samplerOf(AnimPath::Weights);
+      std::vector<double>& w = (*weights)[size_t(d.node)];
+      w.assign(s.comps, 0.0);
+      sampleView(s, r.time, false, w.data());
+    }
+    world[size_t(d.node)] = localMatrix(nd, tr, rot, sc);
+  }
+  // Down the hierarchy: driven nodes and those under them composed, the
+  // others at rest.
+  std::vector<uint8_t> moved(n, 0);
+  for (const NodeDrivers& d : drv) moved[size_t(d.node)] = 1;
+  for (size_t j = 0; j < rig.order.size(); ++j) {
+    const size_t i = size_t(rig.order[j]);
+    const int32_t p = plan->orderParent[j];
+    if (moved[i]) {
+      if (p >= 0) world[i] = compose(world[size_t(p)], world[i]);
+    } else if (p >= 0 && moved[size_t(p)]) {
+      moved[i] = 1;
+      const RigNode& nd = rig.nodes[i];
+      world[i] = compose(world[size_t(p)], localMatrix(nd, nd.translation, nd.rotation, nd.scale));
+    } else {
+      world[i] = plan->restWorld[i];
+    }
+  }
+}
+
+std::vector<glm::dmat4> evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<std::vector<double>>* weights) {
+  std::vector<glm::dmat4> world;
+  evaluateNodes(rig, r, world, weights);
   return world;
 }
 

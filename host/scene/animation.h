@@ -8,7 +8,8 @@
 // then writes every draw's model matrix and every deformed draw's vertices
 // (morph targets, then skinning) into the Scene, in place: the pose a
 // renderer uploads and auto-framing bounds. It runs on the host in double
-// precision, so the same time gives the same bits on every backend.
+// precision, so the same time gives the same bits on every backend (and with
+// any number of threads).
 #pragma once
 
 #include "host/scene/scene.h"
@@ -77,6 +78,47 @@ struct DeformedDraw {
   std::vector<float3> targetPositions, targetNormals;
 };
 
+// A sampler as evaluation reads it: its keys where the rig holds them, and
+// the first and last key times at hand (no trip to the keys to find the
+// interval when they are evenly spaced).
+struct SamplerView {
+  const float* times = nullptr;
+  const float* values = nullptr;
+  uint32_t n = 0, comps = 0;
+  Interpolation interp = Interpolation::Linear;
+  float first = 0.0f, last = 0.0f;
+  double keysPerSecond = 0.0;  // (n - 1) / (last - first): where a time's interval would be were the keys evenly spaced
+};
+SamplerView viewOf(const AnimSampler& s);
+
+// Which channel sets each driven node's translation, rotation, scale and
+// morph weights (indexed by AnimPath): the last one in file order where
+// several do, as playing the channels one after another would leave it.
+struct NodeDrivers {
+  int32_t node = 0;
+  uint32_t driven = 0;  // bit p: path p is driven by sampler[p], else the node's rest value
+  SamplerView sampler[4];
+};
+
+// The rig's channels resolved once (planAnimations), so that evaluating a
+// pose walks flat arrays: per selection, the nodes it drives, each sampled by
+// one thread; and every node's world matrix at rest, which nodes outside the
+// driven subtrees keep.
+// A copied or moved plan comes out empty: its views would point into the
+// keys of the rig it was made for, so only that rig uses it (a copy of a rig
+// plans again on every evaluation until planAnimations is called on it).
+struct AnimPlan {
+  AnimPlan() = default;
+  AnimPlan(const AnimPlan&) {}
+  AnimPlan(AnimPlan&&) noexcept {}
+  AnimPlan& operator=(const AnimPlan&) { return *this = AnimPlan(); }
+  AnimPlan& operator=(AnimPlan&&) noexcept;
+  const struct SceneRig* owner = nullptr;  // the rig planned: evaluating another plans afresh
+  std::vector<std::vector<NodeDrivers>> selections;  // [0]: every animation at once; [1 + a]: animation a alone
+  std::vector<glm::dmat4> restWorld;                 // per node (kNoAnimation's world matrices)
+  std::vector<int32_t> orderParent;                  // per SceneRig::order entry, its node's parent
+};
+
 struct SceneRig {
   std::vector<RigNode> nodes;      // every node of the file
   std::vector<int32_t> order;      // nodes with each parent before its children
@@ -85,7 +127,12 @@ struct SceneRig {
   std::vector<Animation> animations;
   std::vector<Skin> skins;
   std::vector<DeformedDraw> deformed;
+  AnimPlan plan;                   // planAnimations(), once the above is complete
 };
+
+// Fills rig.plan from its nodes, order and animations (the loader calls it;
+// a rig built by hand should too: without a plan each evaluation makes one).
+void planAnimations(SceneRig& rig);
 
 // Which animations play, and when.
 constexpr int kAllAnimations = -1;  // every animation at once (as the Khronos Sample Renderer plays them)
@@ -104,10 +151,17 @@ int findAnimation(const SceneRig& rig, const std::string& which);
 // slerped (LINEAR) or normalised (CUBICSPLINE); cubic-spline tangents are
 // scaled by the key interval.
 void sampleAt(const AnimSampler& s, double t, bool rotation, double* out);
+void sampleView(const SamplerView& s, double t, bool rotation, double* out);
 
 // Every node's world matrix at the request's time (rest transforms where no
-// channel drives a node), and every node's morph weights (out).
+// channel drives a node), and every node's morph weights (out). The driven
+// nodes are sampled in parallel (OpenMP), each by one thread, then the world
+// matrices are composed down the hierarchy in one pass, only under driven
+// nodes: the same bits whatever the thread count. The second form reuses the
+// caller's buffer (no allocation once it has the size).
 std::vector<glm::dmat4> evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<std::vector<double>>* weights);
+void evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<glm::dmat4>& world,
+                   std::vector<std::vector<double>>* weights);
 
 // Writes the pose into the scene: draws' model matrices, deformed draws'
 // vertices (morphed; skinned too with skinOnHost, else left in the morphed

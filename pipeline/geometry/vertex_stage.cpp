@@ -8,6 +8,7 @@
 #include "pipeline/rules/raster_rules.h"
 #include "pipeline/geometry/geometry.h"
 
+#include <cstring>
 #include <type_traits>
 
 namespace rast {
@@ -27,7 +28,9 @@ struct DrawMatrices {
 // matrices and normal matrices blended by its weights, Σ w · J, in a fixed
 // order without contraction, then the position and normal through the
 // blend, so every backend gives the same bits. Weights of 0 are skipped
-// (their joint may be any index).
+// (their joint may be any index). kNormals: the draw's normals are needed
+// (world outputs), else they are not blended.
+template <bool kNormals = true>
 KOKKOS_INLINE_FUNCTION void skinVertex(const DrawGPU& dr, uint32_t local, const uint16_t* sj, const float* sw, const mat4f* joints,
                                        const mat3f* normals, float3& p, float3& n) {
   const uint32_t k0 = dr.skinVertex + local * 4 * dr.skinSets;
@@ -40,14 +43,16 @@ KOKKOS_INLINE_FUNCTION void skinVertex(const DrawGPU& dr, uint32_t local, const 
     if (w == 0.0f) continue;
     const uint32_t j = uint32_t(dr.skinJoint) + sj[k0 + k];
     const mat4f& J = joints[j];
-    const mat3f& N = normals[j];
     for (int c = 0; c < 4; ++c)  // the three rows mulPoint reads, column by column
       for (int r = 0; r < 3; ++r) m.m[c * 4 + r] = m.m[c * 4 + r] + w * J.m[c * 4 + r];
-    for (int c = 0; c < 9; ++c) nm.m[c] = nm.m[c] + w * N.m[c];
+    if constexpr (kNormals) {
+      const mat3f& N = normals[j];
+      for (int c = 0; c < 9; ++c) nm.m[c] = nm.m[c] + w * N.m[c];
+    }
   }
   m.m[15] = 1.0f;
   p = mulPoint(m, p);
-  n = mul(nm, n);
+  if constexpr (kNormals) n = mul(nm, n);
 }
 
 template <bool kWorld, bool kSkin = false>
@@ -84,9 +89,9 @@ struct TransformVertices {
     const uint32_t src = dr.srcVertex + (v - dr.dstVertex);
     float3 p = positions(src);
     float3 n{0.0f, 0.0f, 0.0f};
-    if (kWorld || kSkin) n = normals(src);
+    if (kWorld) n = normals(src);
     if (kSkin && dr.skinJoint >= 0)  // in the world: the draw's model is the identity
-      skinVertex(dr, v - dr.dstVertex, skinJoints.data(), skinWeights.data(), joints.data(), jointNormals.data(), p, n);
+      skinVertex<kWorld>(dr, v - dr.dstVertex, skinJoints.data(), skinWeights.data(), joints.data(), jointNormals.data(), p, n);
     const float4 c = mul(mvp(d), p);
     clip(v) = c;
     snap(v) = snapOrFlag(c, vp, gx, gy);
@@ -144,18 +149,76 @@ struct SkinRun {
   const mat4f* palette;
   const mat3f* paletteNormals;
 };
+#if defined(__GNUC__) && !defined(__CUDACC__) && !defined(__HIPCC__)
+// skinVertex on the host's vector units (GCC/Clang vector extensions, eight
+// floats a value: one AVX2 register, two SSE2 ones): a joint's matrix is
+// blended as sixteen contiguous floats, its normal matrix as eight and one,
+// instead of element by element (GCC keeps the blend in scalar registers
+// otherwise). The last row, which mulPoint does not read, is blended too;
+// every element read is the same multiply and add as skinVertex's, so the
+// same bits.
+template <bool kNormals>
+inline void skinVertexHost(const DrawGPU& dr, uint32_t local, const uint16_t* sj, const float* sw, const mat4f* joints,
+                           const mat3f* normals, float3& p, float3& n) {
+  typedef float Lanes __attribute__((vector_size(32)));
+  const uint32_t k0 = dr.skinVertex + local * 4 * dr.skinSets;
+  Lanes m0 = {}, m1 = {}, n0 = {};
+  float n8 = 0.0f;
+  for (uint32_t k = 0; k < 4 * dr.skinSets; ++k) {
+    const float w = sw[k0 + k];
+    if (w == 0.0f) continue;
+    const uint32_t j = uint32_t(dr.skinJoint) + sj[k0 + k];
+    Lanes a, b;
+    std::memcpy(&a, joints[j].m, sizeof(Lanes));
+    std::memcpy(&b, joints[j].m + 8, sizeof(Lanes));
+    m0 = m0 + w * a;
+    m1 = m1 + w * b;
+    if constexpr (kNormals) {
+      std::memcpy(&a, normals[j].m, sizeof(Lanes));
+      n0 = n0 + w * a;
+      n8 = n8 + w * normals[j].m[8];
+    }
+  }
+  mat4f m;
+  std::memcpy(m.m, &m0, sizeof(Lanes));
+  std::memcpy(m.m + 8, &m1, sizeof(Lanes));
+  m.m[15] = 1.0f;
+  p = mulPoint(m, p);
+  if constexpr (kNormals) {
+    mat3f nm;
+    std::memcpy(nm.m, &n0, sizeof(Lanes));
+    nm.m[8] = n8;
+    n = mul(nm, n);
+  }
+}
+#else
+template <bool kNormals>
+KOKKOS_INLINE_FUNCTION void skinVertexHost(const DrawGPU& dr, uint32_t local, const uint16_t* sj, const float* sw,
+                                           const mat4f* joints, const mat3f* normals, float3& p, float3& n) {
+  skinVertex<kNormals>(dr, local, sj, sw, joints, normals, p, n);
+}
+#endif
+
 RAST_CPU_CLONES void skinnedRun(const SkinRun& s, uint32_t src0, uint32_t v0, uint32_t end) {
   const VertexRun& r = s.base;
+  if (!r.worldPos) {  // clip space only: the normals are not blended
+    for (uint32_t v = v0, src = src0; v < end; ++v, ++src) {
+      float3 p = r.positions[src], n{0.0f, 0.0f, 0.0f};
+      skinVertexHost<false>(s.draw, v - s.draw.dstVertex, s.joints, s.weights, s.palette, s.paletteNormals, p, n);
+      const float4 c = mul(r.mvp, p);
+      r.clip[v] = c;
+      r.snap[v] = snapOrFlag(c, r.vp, r.gx, r.gy);
+    }
+    return;
+  }
   for (uint32_t v = v0, src = src0; v < end; ++v, ++src) {
     float3 p = r.positions[src], n = r.normals[src];
-    skinVertex(s.draw, v - s.draw.dstVertex, s.joints, s.weights, s.palette, s.paletteNormals, p, n);
+    skinVertexHost<true>(s.draw, v - s.draw.dstVertex, s.joints, s.weights, s.palette, s.paletteNormals, p, n);
     const float4 c = mul(r.mvp, p);
     r.clip[v] = c;
     r.snap[v] = snapOrFlag(c, r.vp, r.gx, r.gy);
-    if (r.worldPos) {
-      r.worldPos[v] = mulPoint(r.model, p);
-      r.worldNormal[v] = normalize(mul(r.normalMatrix, n));
-    }
+    r.worldPos[v] = mulPoint(r.model, p);
+    r.worldNormal[v] = normalize(mul(r.normalMatrix, n));
   }
 }
 

@@ -4,16 +4,25 @@
 // scaled by the key interval, clamping outside the keys), tiny glTF files
 // written here whose skinned and morphed vertices land where the spec puts
 // them (the skinned node's own transform ignored, non-normalised weights
-// scaled to 1), a renderer taking a new pose without a new upload, and every
-// kind of bad animation data refused in one line.
+// scaled to 1), a renderer taking a new pose without a new upload, every
+// kind of bad animation data refused in one line, and the planned, threaded
+// evaluation giving the bits of the straightforward one.
 #include <catch2/catch.hpp>
 
 #include "host/scene/animation.h"
 #include "pipeline/frame/renderer.h"
+#include "tests/support/animated_chain.h"
 #include "tests/unit/loader_test_helpers.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 using namespace rast;
 using namespace rast::loader_test;
@@ -234,37 +243,107 @@ TEST_CASE("animation: bad animation data is refused in one line", "[animation]")
              Contains("1 inverse bind matrices for 2 joints"));
 }
 
+namespace {
+
+bool sameBits(const std::vector<glm::dmat4>& a, const std::vector<glm::dmat4>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::dmat4)) == 0;
+}
+
+// Six nodes: 0 -> 1 -> 2 (a matrix node), 3 -> 4, and 5 alone. Two animations
+// drive node 1's translation (the second wins when both play); the first also
+// node 0's rotation (STEP), node 3's scale (CUBICSPLINE) and its weights;
+// nodes 2 and 4 move with their parents, 5 stays at rest.
+SceneRig smallRig() {
+  SceneRig rig;
+  rig.nodes.resize(6);
+  rig.nodes[1].parent = 0;
+  rig.nodes[2].parent = 1;
+  rig.nodes[2].hasMatrix = true;
+  rig.nodes[2].matrix = glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, -1.0, 2.0));
+  rig.nodes[4].parent = 3;
+  rig.nodes[4].translation = {0.0, 3.0, 0.0};
+  rig.nodes[5].rotation = glm::normalize(glm::dquat(0.9, 0.1, 0.3, 0.0));
+  rig.nodes[3].weights = {0.25, 0.5};
+  rig.order = {0, 3, 5, 1, 4, 2};
+  Animation a, b;
+  a.samplers.push_back(sampler(Interpolation::Linear, {0, 1, 3}, {0, 0, 0, 1, 2, 3, -1, 0, 4}, 3));
+  a.samplers.push_back(sampler(Interpolation::Step, {0, 0.5f, 2}, {0, 0, 0, 1, 0, 0.6f, 0, 0.8f, 0.6f, 0, 0, 0.8f}, 4));
+  a.samplers.push_back(sampler(Interpolation::CubicSpline, {0, 2}, {0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0, 0, 2, 2, 2, 0, 0, 0}, 3));
+  a.samplers.push_back(sampler(Interpolation::Linear, {0, 2}, {0, 1, 1, 0}, 2));
+  a.channels = {{1, AnimPath::Translation, 0}, {0, AnimPath::Rotation, 1}, {3, AnimPath::Scale, 2}, {3, AnimPath::Weights, 3}};
+  b.samplers.push_back(sampler(Interpolation::Linear, {0.5f, 1.5f}, {5, 0, 0, 6, 1, 0}, 3));
+  b.channels = {{1, AnimPath::Translation, 0}};
+  rig.animations = {a, b};
+  return rig;
+}
+
+}  // namespace
+
+TEST_CASE("animation: evaluation gives the bits of playing every channel in order", "[animation]") {
+  SceneRig rig = smallRig();
+  planAnimations(rig);
+  for (int anim : {kAllAnimations, 0, 1, kNoAnimation})
+    for (double t : {-1.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.2, 2.0, 2.5, 9.0}) {
+      INFO("animation " << anim << " at " << t);
+      std::vector<std::vector<double>> w, wRef;
+      const std::vector<glm::dmat4> world = evaluateNodes(rig, PoseRequest{t, anim}, &w);
+      CHECK(sameBits(world, test_support::referenceEvaluate(rig, PoseRequest{t, anim}, &wRef)));
+      CHECK(w == wRef);
+    }
+  // Both animations drive node 1's translation: the later one wins when all play.
+  const std::vector<glm::dmat4> all = evaluateNodes(rig, PoseRequest{1.0, kAllAnimations}, nullptr);
+  CHECK((glm::inverse(all[0]) * all[1])[3][0] == Approx(5.5));
+  const std::vector<glm::dmat4> first = evaluateNodes(rig, PoseRequest{1.0, 0}, nullptr);
+  CHECK((glm::inverse(first[0]) * first[1])[3][0] == Approx(1.0));
+  // A rig without a plan (or a copy, whose plan views another rig's keys) is planned on the fly.
+  const SceneRig copy = rig;
+  CHECK(sameBits(evaluateNodes(copy, PoseRequest{0.75, kAllAnimations}, nullptr), evaluateNodes(rig, PoseRequest{0.75, kAllAnimations}, nullptr)));
+}
+
+TEST_CASE("animation: 10,000 animated nodes, the same bits on any number of threads", "[animation]") {
+  const SceneRig rig = test_support::animatedChain(10000);
+  std::vector<glm::dmat4> one, many;
+#ifdef _OPENMP
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  evaluateNodes(rig, PoseRequest{3.05, 0}, one, nullptr);
+  omp_set_num_threads(std::max(2, threads));
+  evaluateNodes(rig, PoseRequest{3.05, 0}, many, nullptr);
+  omp_set_num_threads(threads);
+  CHECK(sameBits(one, many));
+#else
+  evaluateNodes(rig, PoseRequest{3.05, 0}, one, nullptr);
+#endif
+  CHECK(sameBits(one, test_support::referenceEvaluate(rig, PoseRequest{3.05, 0}, nullptr)));
+  evaluateNodes(rig, PoseRequest{3.07, 0}, many, nullptr);
+  CHECK_FALSE(sameBits(one, many));  // a different time moves the chain
+}
+
 TEST_CASE("animation: 10,000 animated nodes evaluate in milliseconds", "[animation]") {
   // A chain of 10,000 nodes, each rotated and translated by its own LINEAR
-  // channels of 100 keys (the budget: under 1 ms on the CPU).
-  SceneRig rig;
-  const int n = 10000;
-  rig.nodes.resize(n);
-  Animation a;
-  for (int i = 0; i < n; ++i) {
-    rig.nodes[size_t(i)].parent = i - 1;
-    rig.order.push_back(i);
-    AnimSampler r = sampler(Interpolation::Linear, {}, {}, 4), t = sampler(Interpolation::Linear, {}, {}, 3);
-    for (int k = 0; k < 100; ++k) {
-      r.times.push_back(float(k) * 0.1f);
-      t.times.push_back(float(k) * 0.1f);
-      const float h = 0.01f * float(k % 7);
-      r.values.insert(r.values.end(), {0.0f, std::sin(h), 0.0f, std::cos(h)});
-      t.values.insert(t.values.end(), {0.001f * float(k), 0.0f, 0.0f});
-    }
-    a.samplers.push_back(std::move(r));
-    a.samplers.push_back(std::move(t));
-    a.channels.push_back({i, AnimPath::Rotation, 2 * i});
-    a.channels.push_back({i, AnimPath::Translation, 2 * i + 1});
-  }
-  rig.animations.push_back(std::move(a));
-  evaluateNodes(rig, PoseRequest{3.05, 0}, nullptr);  // warm
-  const auto t0 = std::chrono::steady_clock::now();
-  constexpr int kRuns = 20;
+  // channels of 100 keys (the budget: under 1 ms on the CPU; the
+  // figures, from rast-anim-bench, in docs/animation.md).
+  const SceneRig rig = test_support::animatedChain(10000);
   std::vector<glm::dmat4> w;
-  for (int r = 0; r < kRuns; ++r) w = evaluateNodes(rig, PoseRequest{3.05 + 0.01 * r, 0}, nullptr);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / kRuns;
-  WARN("evaluating 10,000 animated nodes: " << ms << " ms");
+#ifdef _OPENMP
+  // One thread: on a shared machine a second one may wait a scheduler tick
+  // (4 ms) for its core, which would decide the figure.
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+#endif
+  evaluateNodes(rig, PoseRequest{3.05, 0}, w, nullptr);  // warm
+  constexpr int kRuns = 41;
+  std::vector<double> ms;
+  for (int r = 0; r < kRuns; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    evaluateNodes(rig, PoseRequest{3.05 + 0.01 * r, 0}, w, nullptr);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+#ifdef _OPENMP
+  omp_set_num_threads(threads);
+#endif
+  std::sort(ms.begin(), ms.end());
+  WARN("evaluating 10,000 animated nodes on one thread: median " << ms[kRuns / 2] << " ms");
   CHECK(std::isfinite(w.back()[3][0]));
-  CHECK(ms < 20.0);  // loose: a shared 2-core machine; the figure is in docs/animation.md
+  CHECK(ms[kRuns / 2] < 20.0);  // loose: a shared 2-core machine; the figures are in docs/animation.md
 }
