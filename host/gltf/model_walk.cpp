@@ -11,6 +11,7 @@
 // built. Every failure, wherever it is met, leaves as one one-line Error that
 // names the file, never as a crash or a partial scene.
 #include "host/gltf/gltf_internal.h"
+#include "host/scene/tangents.h"
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -65,6 +66,10 @@ class Loader {
     state_.assign(m_.nodes.size(), 0);
     for (int r : roots) traverse(r);
     gatherFacts();
+    if (!s_.tangents.empty() && s_.tangents.size() < s_.positions.size()) {  // later primitives without tangents
+      ctx_.ledger.charge("tangents", mulSat(s_.positions.size() - s_.tangents.size(), sizeof(float4)));
+      s_.tangents.resize(s_.positions.size(), float4{0.0f, 0.0f, 0.0f, 0.0f});
+    }
     if (s_.draws.empty()) throw Error("the scene has no triangles, lines or points to draw");
     buildRig(m_, ctx_, s_, walk_);  // animation_load.cpp
   }
@@ -335,10 +340,58 @@ class Loader {
         idx.push_back(seq[0]);
       }
     }
+    const std::vector<float4> tan = tangents(p, matIndex, nA >= 0, pos, nrm, uv, col, idx);
     const uint32_t added = addPrim(s_, pos, nA >= 0 ? &nrm : nullptr, texCoordSet >= 0 ? &uv : nullptr,
                                    cA >= 0 ? &col : nullptr, idx, matIndex);
+    if (!tan.empty()) {  // earlier primitives without tangents get none (Scene::tangents)
+      s_.tangents.resize(s_.prims[added].firstVertex, float4{0.0f, 0.0f, 0.0f, 0.0f});
+      s_.tangents.insert(s_.tangents.end(), tan.begin(), tan.end());
+    }
     if (nA < 0 && (attr("JOINTS_0") >= 0 || !p.targets.empty())) walk_.flatCorners[added] = idx;  // a vertex per corner
     return added;
+  }
+
+  // Normal mapping's tangents of a primitive (Scene::tangents), only where
+  // its material has a normal texture: the file's TANGENT (its w taken as
+  // the sign it carries), else generated per vertex (host/scene/tangents.h).
+  // Without NORMAL there are none: flat normals are generated and a file's
+  // tangents MUST then be ignored (glTF 2.0 3.7.2.1); the shader's frame of
+  // each triangle is exactly what generation would give there.
+  std::vector<float4> tangents(const tinygltf::Primitive& p, int32_t matIndex, bool hasNormals,
+                               std::vector<float3>& pos, std::vector<float3>& nrm, std::vector<float2>& uv,
+                               std::vector<float4>& col, std::vector<uint32_t>& idx) {
+    if (matIndex < 0 || s_.materials[matIndex].normalTexture < 0 || !hasNormals || uv.empty()) return {};
+    const size_t nv = pos.size();
+    const std::string what = "tangents (" + std::to_string(nv) + " vertices)";
+    ctx_.ledger.check(what, mulSat(nv, 2 * sizeof(float4)));
+    ctx_.ledger.charge(what, mulSat(nv, sizeof(float4)));
+    const auto it = p.attributes.find("TANGENT");
+    if (it == p.attributes.end()) {
+      ++s_.facts.generatedTangentPrims;
+      // Vertices split at mirrored seams, as MikkTSpace splits them, except
+      // where per-vertex skin or morph data would have to follow.
+      const bool split = !p.attributes.count("JOINTS_0") && p.targets.empty();
+      GeneratedTangents g = generateTangents(pos, nrm, uv, idx, split);
+      if (!g.copies.empty()) {
+        const std::string more = "vertices split for tangents (" + std::to_string(g.copies.size()) + ")";
+        ctx_.ledger.charge(more, mulSat(g.copies.size(), 12 + 12 + 8 + 16 + (col.empty() ? 0 : 16)));
+        for (uint32_t v : g.copies) {
+          pos.push_back(pos[v]);
+          nrm.push_back(nrm[v]);
+          uv.push_back(uv[v]);
+          if (!col.empty()) col.push_back(col[v]);
+        }
+      }
+      return std::move(g.tangents);
+    }
+    ++s_.facts.tangentPrims;
+    const std::vector<float> tf = acc_.floats(it->second, 4, "TANGENT");
+    if (tf.size() / 4 != nv) throw Error("TANGENT count differs from POSITION count");
+    if (!allFinite(tf)) throw Error("TANGENT accessor " + std::to_string(it->second) + " has non-finite values");
+    std::vector<float4> out(nv);
+    for (size_t i = 0; i < nv; ++i)
+      out[i] = {tf[4 * i], tf[4 * i + 1], tf[4 * i + 2], tf[4 * i + 3] < 0.0f ? -1.0f : 1.0f};
+    return out;
   }
 
   // What the primitive will hold in the scene (positions, normals, texture

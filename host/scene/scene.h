@@ -126,6 +126,9 @@ struct FileFacts {
   // occlusionTexture, emission (factor or texture), alphaMode MASK, alphaMode
   // BLEND, doubleSided, KHR_materials_unlit, KHR_texture_transform (any texture).
   uint32_t materialUses[10] = {};
+  // Normal-mapped primitives (as loaded, once per mesh primitive): with the
+  // file's TANGENT, and without (tangents generated, host/scene/tangents.h).
+  uint32_t tangentPrims = 0, generatedTangentPrims = 0;
 };
 
 // How a scene asks to be shown when the command line does not say (the embedded
@@ -148,6 +151,12 @@ struct Scene {
   std::vector<float3> normals;
   std::vector<float2> uvs;
   std::vector<float4> colors;
+  // Normal mapping's tangents (object space; w = +1 or -1, the bitangent
+  // being w * cross(N, T); (0, 0, 0, 0): none, the shader derives the
+  // triangle's frame). Only for primitives whose material has a normal
+  // texture: the file's TANGENT, else generated (tangents.h). Empty when no
+  // primitive needs them; else one entry per vertex.
+  std::vector<float4> tangents;
   std::vector<uint32_t> indices;  // 3 per triangle, relative to the primitive's firstVertex
   std::vector<uint32_t> lineIndices;   // 2 per line segment, relative to the primitive's firstVertex
   std::vector<uint32_t> pointIndices;  // 1 per point, relative to the primitive's firstVertex

@@ -120,6 +120,8 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.hasTextures = usesTexture;
   if (d.hasUV) d.uvs = uploadVec("scene.uvs", s.uvs);
   if (d.hasColor) d.colors = uploadVec("scene.colors", s.colors);
+  d.hasTangents = d.hasUV && !s.tangents.empty();
+  if (d.hasTangents) d.tangents = uploadVec("scene.tangents", s.tangents);
 
   std::vector<DrawGPU> draws;
   std::vector<uint32_t> triStart, vertStart;
@@ -276,7 +278,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 }
 
 size_t DeviceScene::bytes() const {
-  return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
+  return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(tangents) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
          viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) +
          viewBytes(srgbEncodePacked) + viewBytes(lines) + viewBytes(points) + viewBytes(skinJoints) + viewBytes(skinWeights) +

@@ -39,6 +39,7 @@ struct TriFrag {
   float4 baseColor{1.0f, 1.0f, 1.0f, 1.0f};
   int32_t textured = 0;
   int32_t material = -1, mirrored = 0;  // the draw's (the glTF model reads the rest of its material)
+  uint32_t draw = 0;                    // its index (the glTF model's tangents take its matrix)
   TextureGPU tex{};
   // The raster triangle's fields that every fragment reads (bary()), and the
   // eye: copied here once per triangle. Read through `t` they were loaded
@@ -65,6 +66,7 @@ struct Shade {
   DView<DrawIndex> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
   DView<float2> uvs;
   DView<float4> colors;
+  DView<float4> tangents;  // DeviceScene::tangents (read when hasTangent)
   DView<MaterialGPU> materials;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;
@@ -75,6 +77,7 @@ struct Shade {
   DView<uint32_t> encodePacked;   // sRGB encode, DeviceScene::srgbEncodePacked (packSrgb8Packed)
   uint32_t numDraws;
   int32_t hasUV, hasColor;
+  int32_t hasTangent = 0;
   // frame
   DView<RasterTri> tris;
   DView<uint64_t> vis;
@@ -167,6 +170,7 @@ struct Shade {
       }
       f.material = dr.material;
       f.mirrored = dr.mirrored;
+      f.draw = d;
       if (dr.material >= 0) {
         const MaterialGPU& m = materials(dr.material);
         f.baseColor = m.baseColor;
@@ -288,6 +292,52 @@ struct Shade {
     return sampleBilinear(tex, texels, decode, uv.x, uv.y);
   }
 
+  // The normal-mapped normal at a fragment whose interpolated normal is N
+  // (turned towards the viewer when `back`). The tangent frame: the
+  // primitive's tangents (the file's TANGENT or generated at load,
+  // Scene::tangents) interpolated and moved to the world by the draw's
+  // matrix, else the triangle's dP/du (skinned draws, whose tangents the
+  // vertex stage does not pose, and primitives without tangents); made
+  // orthogonal to N, the bitangent w N x T (w: the tangents' handedness,
+  // turned by a mirroring matrix so that it stays the file's bitangent).
+  // A back face turns all three, as the Khronos renderer does.
+  KOKKOS_INLINE_FUNCTION float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
+                                             float3 N, bool back, float2 uv, float2 dx, float2 dy) const {
+    float3 T{0.0f, 0.0f, 0.0f};
+    float w = 1.0f;
+    if (hasTangent) {
+      const DrawGPU& dr = draws(f.draw);
+      const float4 t0 = tangents(f.s0), t1 = tangents(f.s1), t2 = tangents(f.s2);
+      const float tw = t0.w * b0 + t1.w * b1 + t2.w * b2;
+      if (dr.skinJoint < 0 && tw != 0.0f) {
+        const float3 to{t0.x * b0 + t1.x * b1 + t2.x * b2, t0.y * b0 + t1.y * b1 + t2.y * b2,
+                        t0.z * b0 + t1.z * b1 + t2.z * b2};
+        const float* M = dr.modelF.m;
+        T = float3{M[0] * to.x + M[4] * to.y + M[8] * to.z, M[1] * to.x + M[5] * to.y + M[9] * to.z,
+                   M[2] * to.x + M[6] * to.y + M[10] * to.z};
+        T = T - N * dot(N, T);
+        w = (tw < 0.0f) != (f.mirrored != 0) ? -1.0f : 1.0f;
+      }
+    }
+    if (!(dot(T, T) > 1e-12f)) {
+      // dP/du of the triangle (position and uv are both linear over it).
+      const float3 e1 = f.pos[1] - f.pos[0], e2 = f.pos[2] - f.pos[0];
+      const float du1 = f.uv[1].x - f.uv[0].x, dv1 = f.uv[1].y - f.uv[0].y;
+      const float du2 = f.uv[2].x - f.uv[0].x, dv2 = f.uv[2].y - f.uv[0].y;
+      const float det = du1 * dv2 - du2 * dv1;
+      T = det != 0.0f ? (e1 * dv2 - e2 * dv1) * (1.0f / det) : e1;
+      T = T - N * dot(N, T);
+      w = 1.0f;
+    }
+    const float s = back ? -1.0f : 1.0f;
+    const float3 Ng = N * s;
+    if (!(dot(T, T) > 0.0f)) return Ng;
+    T = normalize(T);
+    const float3 B = cross(N, T) * (w * s);
+    const float4 nt = sampleMaterial(m.normalTexture, uv, unorm, dx, dy);
+    return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T * s, B, Ng);
+  }
+
   // The glTF 2.0 metallic-roughness model (pbr_shading.h) at a fragment with
   // barycentrics b and interpolated normal N, position P: the material's
   // factors times its textures, the file's punctual lights (else --light,
@@ -334,26 +384,9 @@ struct Shade {
     // normal towards the viewer, as the specification says.
     const float3 face = cross(f.pos[1] - f.pos[0], f.pos[2] - f.pos[0]);
     const bool back = (dot(face, V) < 0.0f) != (f.mirrored != 0);
-    float3 Ng = back ? N * -1.0f : N;
-    N = Ng;
-    if (textured && m.normalTexture >= 0) {
-      // Tangent: dP/du of the triangle (position and uv are both linear
-      // over it), made orthogonal to the interpolated normal; bitangent
-      // N x T, as the Khronos renderer builds them where a file has no tangents.
-      const float3 e1 = f.pos[1] - f.pos[0], e2 = f.pos[2] - f.pos[0];
-      const float du1 = f.uv[1].x - f.uv[0].x, dv1 = f.uv[1].y - f.uv[0].y;
-      const float du2 = f.uv[2].x - f.uv[0].x, dv2 = f.uv[2].y - f.uv[0].y;
-      const float det = du1 * dv2 - du2 * dv1;
-      float3 T = det != 0.0f ? (e1 * dv2 - e2 * dv1) * (1.0f / det) : e1;
-      if (back) T = T * -1.0f;
-      T = T - Ng * dot(Ng, T);
-      if (dot(T, T) > 0.0f) {
-        T = normalize(T);
-        const float3 B = cross(Ng, T);
-        const float4 nt = sampleMaterial(m.normalTexture, uv, unorm, dx, dy);
-        N = pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T, B, Ng);
-      }
-    }
+    const float3 Ng = back ? N * -1.0f : N;
+    if (textured && m.normalTexture >= 0) N = normalMapped(f, m, b0, b1, b2, N, back, uv, dx, dy);
+    else N = Ng;
 
     float3 color{0.0f, 0.0f, 0.0f};
     if (numPunctual > 0) {
