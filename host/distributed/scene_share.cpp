@@ -38,6 +38,7 @@ uint32_t copyPart(const Scene& from, const MeshPrim& p, Scene& to, uint32_t ta, 
     to.positions.push_back(from.positions[src]);
     to.normals.push_back(from.normals[src]);
     if (!from.uvs.empty()) to.uvs.push_back(from.uvs[src]);
+    if (!from.uvs1.empty()) to.uvs1.push_back(from.uvs1[src]);
     if (!from.colors.empty()) to.colors.push_back(from.colors[src]);
     if (!from.tangents.empty()) to.tangents.push_back(from.tangents[src]);
   }

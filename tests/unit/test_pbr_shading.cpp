@@ -6,7 +6,8 @@
 // metal/dielectric mix, roughness, the metallicRoughness texture's channels,
 // emission and its strength, unlit, the lights' falloff, range window and
 // spot cone, single- and double-sided faces, normal maps and their tangent
-// frame (the file's TANGENT, its handedness, a mirroring node, generated).
+// frame (the file's TANGENT, its handedness, a mirroring node, generated),
+// each texture's own texCoord set and transform.
 #include <catch2/catch.hpp>
 
 #include "base/color.h"
@@ -242,6 +243,49 @@ TEST_CASE("pbr: normal maps take the file's TANGENT and its handedness, else gen
   near(render("up.png", fromY, {}, "wgen"), generated);  // generated: w = +1 (v runs down the image)
   // A mirroring node keeps the file's bitangent (+y), not N x T of the mirrored tangent.
   near(render("up.png", fromY, each(1, 0, 0, 1), "mirror", true), generated);
+}
+
+TEST_CASE("pbr: each texture samples its own texCoord set and transform", "[pbr]") {
+  TempDir d;
+  const json kNode = {{"translation", {0, 0, 5}}};
+  writePng(d.file("white.png"), 1, 1, {0xffffffffu});
+  writePng(d.file("halves.png"), 2, 1, {0xff000000u, 0xff0000ffu});  // left black, right red
+  // A black dielectric (its base colour texture white, on set 0) whose
+  // emission is the halves texture: set 0 puts every vertex on the black
+  // half, set 1 on the red one.
+  auto doc = [&](const json& emissive, const json* occlusion = nullptr, bool withSet1 = true) {
+    json m = pbrMaterial(0, 0, 0, 0, 1);
+    m["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    m["emissiveFactor"] = {1, 1, 1};
+    m["emissiveTexture"] = emissive;
+    if (occlusion) m["occlusionTexture"] = *occlusion;
+    Doc doc = square(m, &kSun, kNode);
+    const int set0 = doc.floats({0.25f, 0.5f, 0.25f, 0.5f, 0.25f, 0.5f, 0.25f, 0.5f}, "VEC2", 2);
+    const int set1 = doc.floats({0.75f, 0.5f, 0.75f, 0.5f, 0.75f, 0.5f, 0.75f, 0.5f}, "VEC2", 2);
+    doc.j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = set0;
+    if (withSet1) doc.j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = set1;
+    doc.j["textures"] = json::array({{{"source", 0}}, {{"source", 1}}});
+    doc.j["images"] = json::array({{{"uri", "white.png"}}, {{"uri", "halves.png"}}});
+    return doc;
+  };
+  const Scene one = loadDoc(doc({{"index", 1}}), d, "set0");
+  CHECK(one.uvs1.empty());  // one set and transform: no second coordinates
+  CHECK(centre(one).x < 0.1f);
+  const Scene two = loadDoc(doc({{"index", 1}, {"texCoord", 1}}), d, "set1");
+  CHECK(two.uvs1.size() == two.positions.size());
+  CHECK(centre(two).x > 0.9f);
+  // KHR_texture_transform's texCoord overrides the textureInfo's.
+  const json pick = {{"index", 1}, {"texCoord", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}};
+  CHECK(centre(loadDoc(doc(pick), d, "override")).x > 0.9f);
+  // A transform of the emissive texture alone (the base colour has none): u 0.25 + 0.5.
+  const json moved = {{"index", 1}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0.0}}}}}}};
+  CHECK(centre(loadDoc(doc(moved), d, "moved")).x > 0.9f);
+  // Refused in one line: a set the primitive lacks, a third set or transform.
+  CHECK_THAT(docError(doc({{"index", 1}, {"texCoord", 1}}, nullptr, false), d, "lacks"),
+             Contains("material samples TEXCOORD_1 which the primitive lacks"));
+  const json third = {{"index", 1}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.25, 0.0}}}}}}};
+  CHECK_THAT(docError(doc({{"index", 1}, {"texCoord", 1}}, &third), d, "third"),
+             Contains("occlusionTexture: a third set of texture coordinates or transform"));
 }
 
 TEST_CASE("pbr: out-of-range material and light values are refused in one line", "[pbr]") {
