@@ -76,6 +76,12 @@ void printSceneInfo(const Scene& s, const std::string& source) {
     if (f.materialUses[k])
       std::printf("  %-26s %u material%s: %s\n", kFeature[k], f.materialUses[k], f.materialUses[k] == 1 ? "" : "s",
                   kHonoured[k] ? "honoured" : "ignored");
+  if (f.tangentPrims || f.generatedTangentPrims)
+    std::printf("  %-26s %u normal-mapped primitive%s with TANGENT: honoured; %u without: tangents generated per vertex\n",
+                "TANGENT", f.tangentPrims, f.tangentPrims == 1 ? "" : "s", f.generatedTangentPrims);
+  if (f.twoUvMaterials)
+    std::printf("  %-26s %u material%s: honoured (a second set of coordinates)\n", "two texCoord sets/transforms", f.twoUvMaterials,
+                f.twoUvMaterials == 1 ? "" : "s");
 
   auto list = [](const char* what, const std::vector<std::string>& names) {
     std::printf("%s: %zu\n", what, names.size());

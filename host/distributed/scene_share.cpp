@@ -38,7 +38,9 @@ uint32_t copyPart(const Scene& from, const MeshPrim& p, Scene& to, uint32_t ta, 
     to.positions.push_back(from.positions[src]);
     to.normals.push_back(from.normals[src]);
     if (!from.uvs.empty()) to.uvs.push_back(from.uvs[src]);
+    if (!from.uvs1.empty()) to.uvs1.push_back(from.uvs1[src]);
     if (!from.colors.empty()) to.colors.push_back(from.colors[src]);
+    if (!from.tangents.empty()) to.tangents.push_back(from.tangents[src]);
   }
   const auto idx = [&](uint32_t v) { return v < p.vertexCount ? remap[v] : v; };  // out of range: validate() says so
   for (uint64_t i = 3 * uint64_t(p.firstTri + ta); i < 3 * uint64_t(p.firstTri + tb); ++i)

@@ -325,7 +325,7 @@ class RigBuilder {
     for (uint32_t t = 0; t < dd.targets; ++t) {
       for (const auto& [name, a] : gp.targets[t]) {
         std::vector<float3>* out = name == "POSITION" ? &dd.targetPositions : name == "NORMAL" ? &dd.targetNormals : nullptr;
-        if (!out || out->empty()) continue;  // TANGENT: rast keeps no tangents
+        if (!out || out->empty()) continue;  // TANGENT deltas: not applied (docs/animation.md)
         const std::string what = "morph target " + name;
         const std::vector<float> f = perVertex(acc_.floats(a, 3, what.c_str()), 3, srcCount, corner, nv, what.c_str());
         if (!finiteAll(f)) throw Error(what + " has non-finite values");

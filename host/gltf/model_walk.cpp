@@ -11,6 +11,7 @@
 // built. Every failure, wherever it is met, leaves as one one-line Error that
 // names the file, never as a crash or a partial scene.
 #include "host/gltf/gltf_internal.h"
+#include "host/scene/tangents.h"
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -65,6 +66,14 @@ class Loader {
     state_.assign(m_.nodes.size(), 0);
     for (int r : roots) traverse(r);
     gatherFacts();
+    if (!s_.tangents.empty() && s_.tangents.size() < s_.positions.size()) {  // later primitives without tangents
+      ctx_.ledger.charge("tangents", mulSat(s_.positions.size() - s_.tangents.size(), sizeof(float4)));
+      s_.tangents.resize(s_.positions.size(), float4{0.0f, 0.0f, 0.0f, 0.0f});
+    }
+    if (!s_.uvs1.empty() && s_.uvs1.size() < s_.positions.size()) {  // later primitives with one set
+      ctx_.ledger.charge("second texture coordinates", mulSat(s_.positions.size() - s_.uvs1.size(), sizeof(float2)));
+      s_.uvs1.resize(s_.positions.size(), float2{0.0f, 0.0f});
+    }
     if (s_.draws.empty()) throw Error("the scene has no triangles, lines or points to draw");
     buildRig(m_, ctx_, s_, walk_);  // animation_load.cpp
   }
@@ -242,29 +251,34 @@ class Loader {
     }
 
     int32_t matIndex = -1;
-    int texCoordSet = -1;
-    UvTransform uvXf;
+    LoadedMaterial lm{-1, -1, UvTransform{}};
     if (p.material >= 0) {
       if (size_t(p.material) >= m_.materials.size()) throw Error("material index " + std::to_string(p.material) + " out of range");
-      const LoadedMaterial& lm = material(p.material);
+      lm = material(p.material);
       matIndex = lm.index;
-      texCoordSet = lm.texCoordSet;
-      uvXf = lm.uv;
     } else if (p.material < -1) {
       throw Error("material index out of range");
     }
 
-    std::vector<float2> uv;
-    if (texCoordSet >= 0 && mode >= TINYGLTF_MODE_TRIANGLES) {  // points and lines are not textured
-      const int uvA = attr(("TEXCOORD_" + std::to_string(texCoordSet)).c_str());
-      if (uvA < 0) throw Error("material samples TEXCOORD_" + std::to_string(texCoordSet) + " which the primitive lacks");
+    // The material's coordinates (points and lines are not textured): its
+    // first set, and the second where its textures sample two (Scene::uvs1).
+    auto readUv = [&](int set, const UvTransform& xf) {
+      std::vector<float2> out;
+      if (set < 0 || mode < TINYGLTF_MODE_TRIANGLES) return out;
+      const int uvA = attr(("TEXCOORD_" + std::to_string(set)).c_str());
+      if (uvA < 0) throw Error("material samples TEXCOORD_" + std::to_string(set) + " which the primitive lacks");
       const std::vector<float> uf = acc_.floats(uvA, 2, "TEXCOORD");
       if (uf.size() / 2 != nv) throw Error("TEXCOORD count differs from POSITION count");
       if (!allFinite(uf)) throw Error("TEXCOORD accessor " + std::to_string(uvA) + " has non-finite values");
-      uv.resize(nv);
-      for (size_t i = 0; i < nv; ++i) uv[i] = {uf[2 * i], uf[2 * i + 1]};
-      applyUvTransform(uvXf, uv);
-    }
+      out.resize(nv);
+      for (size_t i = 0; i < nv; ++i) out[i] = {uf[2 * i], uf[2 * i + 1]};
+      applyUvTransform(xf, out);
+      return out;
+    };
+    const int texCoordSet = lm.texCoordSet;
+    std::vector<float2> uv = readUv(texCoordSet, lm.uv);
+    std::vector<float2> uv1 = readUv(lm.texCoordSet1, lm.uv1);
+    if (!uv1.empty()) ctx_.ledger.charge("second texture coordinates", mulSat(nv, sizeof(float2)));
 
     std::vector<float4> col;
     const int cA = attr("COLOR_0");
@@ -335,10 +349,65 @@ class Loader {
         idx.push_back(seq[0]);
       }
     }
+    const std::vector<float4> tan = tangents(p, matIndex, nA >= 0, pos, nrm, uv, uv1, col, idx);
     const uint32_t added = addPrim(s_, pos, nA >= 0 ? &nrm : nullptr, texCoordSet >= 0 ? &uv : nullptr,
                                    cA >= 0 ? &col : nullptr, idx, matIndex);
+    if (!uv1.empty()) {  // vertex for vertex as addPrim stored them (a vertex per corner with flat normals)
+      s_.uvs1.resize(s_.prims[added].firstVertex, float2{0.0f, 0.0f});
+      if (nA >= 0) s_.uvs1.insert(s_.uvs1.end(), uv1.begin(), uv1.end());
+      else for (uint32_t i : idx) s_.uvs1.push_back(uv1[i]);
+    }
+    if (!tan.empty()) {  // earlier primitives without tangents get none (Scene::tangents)
+      s_.tangents.resize(s_.prims[added].firstVertex, float4{0.0f, 0.0f, 0.0f, 0.0f});
+      s_.tangents.insert(s_.tangents.end(), tan.begin(), tan.end());
+    }
     if (nA < 0 && (attr("JOINTS_0") >= 0 || !p.targets.empty())) walk_.flatCorners[added] = idx;  // a vertex per corner
     return added;
+  }
+
+  // Normal mapping's tangents of a primitive (Scene::tangents), only where
+  // its material has a normal texture: the file's TANGENT (its w taken as
+  // the sign it carries), else generated per vertex (host/scene/tangents.h).
+  // Without NORMAL there are none: flat normals are generated and a file's
+  // tangents MUST then be ignored (glTF 2.0 3.7.2.1); the shader's frame of
+  // each triangle is exactly what generation would give there.
+  std::vector<float4> tangents(const tinygltf::Primitive& p, int32_t matIndex, bool hasNormals,
+                               std::vector<float3>& pos, std::vector<float3>& nrm, std::vector<float2>& uv,
+                               std::vector<float2>& uv1, std::vector<float4>& col, std::vector<uint32_t>& idx) {
+    if (matIndex < 0 || s_.materials[matIndex].normalTexture < 0 || !hasNormals || uv.empty()) return {};
+    const std::vector<float2>& normalUv = s_.materials[matIndex].uv1Slots >> SlotNormal & 1u ? uv1 : uv;
+    const size_t nv = pos.size();
+    const std::string what = "tangents (" + std::to_string(nv) + " vertices)";
+    ctx_.ledger.check(what, mulSat(nv, 2 * sizeof(float4)));
+    ctx_.ledger.charge(what, mulSat(nv, sizeof(float4)));
+    const auto it = p.attributes.find("TANGENT");
+    if (it == p.attributes.end()) {
+      ++s_.facts.generatedTangentPrims;
+      // Vertices split at mirrored seams, as MikkTSpace splits them, except
+      // where per-vertex skin or morph data would have to follow.
+      const bool split = !p.attributes.count("JOINTS_0") && p.targets.empty();
+      GeneratedTangents g = generateTangents(pos, nrm, normalUv, idx, split);
+      if (!g.copies.empty()) {
+        const std::string more = "vertices split for tangents (" + std::to_string(g.copies.size()) + ")";
+        ctx_.ledger.charge(more, mulSat(g.copies.size(), 12 + 12 + 8 + 16 + (uv1.empty() ? 0 : 8) + (col.empty() ? 0 : 16)));
+        for (uint32_t v : g.copies) {
+          pos.push_back(pos[v]);
+          nrm.push_back(nrm[v]);
+          uv.push_back(uv[v]);
+          if (!uv1.empty()) uv1.push_back(uv1[v]);
+          if (!col.empty()) col.push_back(col[v]);
+        }
+      }
+      return std::move(g.tangents);
+    }
+    ++s_.facts.tangentPrims;
+    const std::vector<float> tf = acc_.floats(it->second, 4, "TANGENT");
+    if (tf.size() / 4 != nv) throw Error("TANGENT count differs from POSITION count");
+    if (!allFinite(tf)) throw Error("TANGENT accessor " + std::to_string(it->second) + " has non-finite values");
+    std::vector<float4> out(nv);
+    for (size_t i = 0; i < nv; ++i)
+      out[i] = {tf[4 * i], tf[4 * i + 1], tf[4 * i + 2], tf[4 * i + 3] < 0.0f ? -1.0f : 1.0f};
+    return out;
   }
 
   // What the primitive will hold in the scene (positions, normals, texture
@@ -360,9 +429,10 @@ class Loader {
     ctx_.ledger.charge(what, bytes);
   }
 
-  // A material's base-colour texture transform (KHR_texture_transform): an
-  // affine map of its texture coordinates, uv' = T(offset) R(rotation) S(scale) uv.
-  // It is baked into each primitive's UVs at load (applyUvTransform): a
+  // A texture's transform (KHR_texture_transform): an affine map of its
+  // texture coordinates, uv' = T(offset) R(rotation) S(scale) uv. It is baked
+  // into the primitive's coordinates at load (applyUvTransform; the second
+  // coordinates hold the other transform when a material has two): a
   // primitive has one material, and an affine map commutes with the
   // barycentric interpolation of the coordinates, so the texels sampled (and
   // the derivatives that pick mip levels) are the spec's, at no cost a frame.
@@ -371,12 +441,12 @@ class Loader {
     double m[6] = {1, 0, 0, 0, 1, 0};  // u' = m0 u + m1 v + m2, v' = m3 u + m4 v + m5
   };
 
-  static UvTransform uvTransform(const tinygltf::TextureInfo& ti, int mi, int* set) {
+  static UvTransform uvTransform(const tinygltf::TextureInfo& ti, const std::string& slot, int* set) {
     UvTransform t;
     const auto it = ti.extensions.find("KHR_texture_transform");
     if (it == ti.extensions.end()) return t;
     const tinygltf::Value& x = it->second;
-    const std::string at = "materials[" + std::to_string(mi) + "] baseColorTexture KHR_texture_transform: ";
+    const std::string at = slot + " KHR_texture_transform: ";
     if (!x.IsObject()) throw Error(at + "must be an object");
     auto pair = [&](const char* key, double d0, double d1, double out[2]) {
       out[0] = d0;
@@ -421,43 +491,68 @@ class Loader {
     int32_t index;
     int texCoordSet;  // -1: untextured
     UvTransform uv;
+    int texCoordSet1 = -1;  // the second coordinates (Material::uv1Slots), -1: none
+    UvTransform uv1;
   };
+
+  static bool sameUse(int setA, const UvTransform& a, int setB, const UvTransform& b) {
+    return setA == setB && std::equal(a.m, a.m + 6, b.m);
+  }
 
   const LoadedMaterial& material(int mi) {
     auto it = matCache_.find(mi);
     if (it == matCache_.end()) {
       const tinygltf::Material& gm = m_.materials[mi];
-      const Material mat = readMaterial(m_, mi, [&](int ti, const char*) { return texture(ti); });
-      // The material's textures share one set of coordinates: the base
-      // colour's (its transform baked in), else the first textured slot's.
-      const tinygltf::TextureInfo* slots[4] = {&gm.pbrMetallicRoughness.baseColorTexture,
-                                               &gm.pbrMetallicRoughness.metallicRoughnessTexture,
-                                               &gm.emissiveTexture, nullptr};
-      tinygltf::TextureInfo normal, occlusion;  // their own structs in tinygltf
-      int set = -1;
-      UvTransform xf;
-      const tinygltf::TextureInfo* first = nullptr;
-      for (int k = 0; k < 3 && !first; ++k)
-        if (slots[k]->index >= 0) first = slots[k];
-      if (!first && gm.normalTexture.index >= 0) {
-        normal.index = gm.normalTexture.index;
-        normal.texCoord = gm.normalTexture.texCoord;
-        normal.extensions = gm.normalTexture.extensions;
-        first = &normal;
+      Material mat = readMaterial(m_, mi, [&](int ti, const char*) { return texture(ti); });
+      // Each texture samples its own set (texCoord, or its transform's
+      // texCoord override) through its own transform. The first textured
+      // slot (the base colour's when it has one) defines the primitive's
+      // first coordinates, the first slot that differs in set or transform
+      // the second (Material::uv1Slots); a third is refused.
+      struct Slot {
+        const char* name;
+        TextureSlot slot;
+        tinygltf::TextureInfo info;
+      };
+      auto info = [](int index, int texCoord, const tinygltf::ExtensionMap& ext) {
+        tinygltf::TextureInfo t;
+        t.index = index;
+        t.texCoord = texCoord;
+        t.extensions = ext;
+        return t;
+      };
+      const auto& pbr = gm.pbrMetallicRoughness;
+      const Slot slots[5] = {
+          {"baseColorTexture", SlotBaseColor, pbr.baseColorTexture},
+          {"metallicRoughnessTexture", SlotMetalRough, pbr.metallicRoughnessTexture},
+          {"emissiveTexture", SlotEmissive, gm.emissiveTexture},
+          {"normalTexture", SlotNormal, info(gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.extensions)},
+          {"occlusionTexture", SlotOcclusion,
+           info(gm.occlusionTexture.index, gm.occlusionTexture.texCoord, gm.occlusionTexture.extensions)}};
+      LoadedMaterial lm{0, -1, UvTransform{}};
+      for (const Slot& sl : slots) {
+        if (sl.info.index < 0) continue;
+        int set = sl.info.texCoord;
+        const std::string at = "materials[" + std::to_string(mi) + "] " + sl.name;
+        if (set < 0) throw Error(at + " texCoord must not be negative");
+        const UvTransform xf = uvTransform(sl.info, at, &set);
+        if (lm.texCoordSet < 0) {
+          lm.texCoordSet = set;
+          lm.uv = xf;
+        } else if (!sameUse(set, xf, lm.texCoordSet, lm.uv)) {
+          if (lm.texCoordSet1 < 0) {
+            lm.texCoordSet1 = set;
+            lm.uv1 = xf;
+          } else if (!sameUse(set, xf, lm.texCoordSet1, lm.uv1)) {
+            throw Error(at + ": a third set of texture coordinates or transform in one material (rast samples two)");
+          }
+          mat.uv1Slots |= 1u << sl.slot;
+        }
       }
-      if (!first && gm.occlusionTexture.index >= 0) {
-        occlusion.index = gm.occlusionTexture.index;
-        occlusion.texCoord = gm.occlusionTexture.texCoord;
-        occlusion.extensions = gm.occlusionTexture.extensions;
-        first = &occlusion;
-      }
-      if (first) {
-        set = first->texCoord;
-        if (set < 0) throw Error("material texCoord set is negative");
-        xf = uvTransform(*first, mi, &set);
-      }
+      if (mat.uv1Slots) ++s_.facts.twoUvMaterials;
       s_.materials.push_back(mat);
-      it = matCache_.emplace(mi, LoadedMaterial{int32_t(s_.materials.size() - 1), set, xf}).first;
+      lm.index = int32_t(s_.materials.size() - 1);
+      it = matCache_.emplace(mi, lm).first;
     }
     return it->second;
   }

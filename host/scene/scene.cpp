@@ -44,6 +44,8 @@ void Scene::validate() const {
   if (normals.size() != nv) throw Error("internal: normal stream size mismatch");
   if (!uvs.empty() && uvs.size() != nv) throw Error("internal: uv stream size mismatch");
   if (!colors.empty() && colors.size() != nv) throw Error("internal: colour stream size mismatch");
+  if (!uvs1.empty() && uvs1.size() != nv) throw Error("internal: second uv stream size mismatch");
+  if (!tangents.empty() && tangents.size() != nv) throw Error("internal: tangent stream size mismatch");
   for (const MeshPrim& p : prims) {
     if (uint64_t(p.firstVertex) + p.vertexCount > nv) throw Error("internal: primitive vertex range");
     if ((uint64_t(p.firstTri) + p.triCount) * 3 > indices.size())

@@ -38,10 +38,15 @@ struct Texture {
 // cutoff, BLEND composites.
 enum class AlphaMode : int32_t { Opaque = 0, Mask = 1, Blend = 2 };
 
+// The texture slots of a material, for Material::uv1Slots.
+enum TextureSlot : int32_t { SlotBaseColor = 0, SlotMetalRough = 1, SlotNormal = 2, SlotOcclusion = 3, SlotEmissive = 4 };
+
 // A glTF 2.0 metallic-roughness material (3.9), factors linear. Texture
-// fields index Scene::textures (-1: none); every texture of a material is
-// sampled with the primitive's one set of texture coordinates (Scene::uvs,
-// the base colour's, or the first textured slot's; docs/gltf-support.md).
+// fields index Scene::textures (-1: none). Its textures sample the
+// primitive's first coordinates (Scene::uvs: the base colour's set and
+// transform, or the first textured slot's), except those of uv1Slots, which
+// sample the second (Scene::uvs1: another set or another transform;
+// docs/gltf-support.md).
 struct Material {
   float4 baseColorFactor{1.0f, 1.0f, 1.0f, 1.0f};  // linear
   int32_t texture = -1;                             // baseColorTexture (sRGB)
@@ -57,6 +62,7 @@ struct Material {
   float alphaCutoff = 0.5f;
   bool doubleSided = false;
   bool unlit = false;                     // KHR_materials_unlit
+  uint32_t uv1Slots = 0;                  // bit k: slot k (TextureSlot) samples Scene::uvs1
   bool anyTexture() const {
     return texture >= 0 || metallicRoughnessTexture >= 0 || normalTexture >= 0 || occlusionTexture >= 0 ||
            emissiveTexture >= 0;
@@ -126,6 +132,11 @@ struct FileFacts {
   // occlusionTexture, emission (factor or texture), alphaMode MASK, alphaMode
   // BLEND, doubleSided, KHR_materials_unlit, KHR_texture_transform (any texture).
   uint32_t materialUses[10] = {};
+  // Normal-mapped primitives (as loaded, once per mesh primitive): with the
+  // file's TANGENT, and without (tangents generated, host/scene/tangents.h).
+  uint32_t tangentPrims = 0, generatedTangentPrims = 0;
+  // Materials drawn whose textures sample two sets or transforms (Scene::uvs1).
+  uint32_t twoUvMaterials = 0;
 };
 
 // How a scene asks to be shown when the command line does not say (the embedded
@@ -147,7 +158,16 @@ struct Scene {
   std::vector<float3> positions;
   std::vector<float3> normals;
   std::vector<float2> uvs;
+  // The second coordinates (Material::uv1Slots), with their texture's
+  // transform applied; empty when no material needs them.
+  std::vector<float2> uvs1;
   std::vector<float4> colors;
+  // Normal mapping's tangents (object space; w = +1 or -1, the bitangent
+  // being w * cross(N, T); (0, 0, 0, 0): none, the shader derives the
+  // triangle's frame). Only for primitives whose material has a normal
+  // texture: the file's TANGENT, else generated (tangents.h). Empty when no
+  // primitive needs them; else one entry per vertex.
+  std::vector<float4> tangents;
   std::vector<uint32_t> indices;  // 3 per triangle, relative to the primitive's firstVertex
   std::vector<uint32_t> lineIndices;   // 2 per line segment, relative to the primitive's firstVertex
   std::vector<uint32_t> pointIndices;  // 1 per point, relative to the primitive's firstVertex

@@ -110,7 +110,38 @@ struct AlphaScene {
     if (hasColor) alpha *= a.colA[0] * b0 + a.colA[1] * b1 + a.colA[2] * b2;
     return cleanAlpha(alpha);
   }
+
+  // Alpha-to-coverage (MASK under MSAA): the share of pixel (X, Y)'s samples
+  // that triangle t keeps, from the alpha at the pixel's centre, sharpened so
+  // that it goes from 0 to 1 over one pixel around the cutoff (the alpha's
+  // change one pixel right plus one pixel up sets the width; points outside
+  // the triangle extrapolate its plane): the cut-out edge lands where the
+  // cutoff puts it, anti-aliased, and an alpha that does not change across the
+  // pixel keeps all or none.
+  KOKKOS_INLINE_FUNCTION float coverageAt(const AlphaTri& a, const RasterTri& t, int32_t X, int32_t Y) const {
+    const Edges e(t);
+    const int64_t c0 = e.eval(0, X, Y), c1 = e.eval(1, X, Y), c2 = e.eval(2, X, Y);
+    const float al = alphaAt(a, c0, c1, c2);
+    const float ax = alphaAt(a, e.atSample(0, c0, kSubOne, 0), e.atSample(1, c1, kSubOne, 0), e.atSample(2, c2, kSubOne, 0));
+    const float ay = alphaAt(a, e.atSample(0, c0, 0, kSubOne), e.atSample(1, c1, 0, kSubOne), e.atSample(2, c2, 0, kSubOne));
+    const float w = ::fabsf(ax - al) + ::fabsf(ay - al);
+    if (!(w > 1e-6f)) return al >= a.cutoff ? 1.0f : 0.0f;
+    const float c = (al - a.cutoff) / w + 0.5f;
+    return c > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f;
+  }
 };
+
+// Alpha-to-coverage's threshold for sample s of `count` at pixel (X, Y): the
+// sample's rank, rotated by the pixel's place in a 4x4 ordered (Bayer)
+// pattern, as a fraction: a coverage c keeps the samples whose threshold is
+// below c, about c x count of them, a different choice of samples from pixel
+// to pixel (a dither, integer arithmetic: the same on every backend).
+KOKKOS_INLINE_FUNCTION float coverageThreshold(int s, int count, int32_t X, int32_t Y) {
+  const uint32_t x = uint32_t(X) & 3u, y = uint32_t(Y) & 3u, d = x ^ y;
+  const uint32_t bayer = (d & 1u) << 3 | (y & 1u) << 2 | (d >> 1) << 1 | y >> 1;  // 0..15, each once a 4x4 tile
+  const int rank = int((uint32_t(s) + bayer) % uint32_t(count));
+  return (float(rank) + 0.5f) / float(count);
+}
 
 AlphaScene makeAlphaScene(const DeviceScene& s, const FrameBuffers& f, TexFilter filter, bool perspective);
 

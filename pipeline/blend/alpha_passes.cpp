@@ -74,14 +74,29 @@ struct MaskRaster {
     const uint64_t total = totals(kMaskItems);
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     AlphaTri a;
+    const int S = vp.samples.count;
+    int32_t px = -1, py = -1;  // the pixel whose coverage `cov` holds (alpha-to-coverage)
+    float cov = 0.0f;
     for (uint64_t w = th; w < total; w += threads) {
       const uint32_t i = itemOwner(start, n, w);
-      if (i != a.index) sc.prepare(i, a);
+      if (i != a.index) {
+        sc.prepare(i, a);
+        px = -1;
+      }
       forItemSamples(sc.tris(i), vp, uint32_t(w - start(i)),
-                     [&](int64_t k, int32_t, int32_t, int, int64_t e0, int64_t e1, int64_t e2, float z) {
+                     [&](int64_t k, int32_t X, int32_t Y, int s, int64_t e0, int64_t e1, int64_t e2, float z) {
                        const uint64_t key = visKey(z, i);
                        if (key >= vis(k)) return;  // a plain read only skips what cannot win
-                       if (!(sc.alphaAt(a, e0, e1, e2) >= a.cutoff)) return;  // glTF: alpha < cutoff is discarded
+                       if (S > 1) {  // alpha-to-coverage: one alpha a pixel, a dithered share of its samples
+                         if (X != px || Y != py) {
+                           px = X;
+                           py = Y;
+                           cov = sc.coverageAt(a, sc.tris(i), X, Y);
+                         }
+                         if (!(cov > coverageThreshold(s, S, X, Y))) return;
+                       } else if (!(sc.alphaAt(a, e0, e1, e2) >= a.cutoff)) {
+                         return;  // glTF: alpha < cutoff is discarded
+                       }
                        Kokkos::atomic_fetch_min(&vis(k), key);
                      });
     }

@@ -120,6 +120,12 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.hasTextures = usesTexture;
   if (d.hasUV) d.uvs = uploadVec("scene.uvs", s.uvs);
   if (d.hasColor) d.colors = uploadVec("scene.colors", s.colors);
+  bool usesUv1 = false;
+  for (const Material& m : s.materials) usesUv1 |= m.uv1Slots != 0;
+  d.hasUV1 = d.hasUV && usesUv1 && !s.uvs1.empty();
+  if (d.hasUV1) d.uvs1 = uploadVec("scene.uvs1", s.uvs1);
+  d.hasTangents = d.hasUV && !s.tangents.empty();
+  if (d.hasTangents) d.tangents = uploadVec("scene.tangents", s.tangents);
 
   std::vector<DrawGPU> draws;
   std::vector<uint32_t> triStart, vertStart;
@@ -192,7 +198,8 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     g.occlusionStrength = m.occlusionStrength;
     g.emissive = m.emissive;
     g.flags = (m.unlit ? kMaterialUnlit : 0) | (m.doubleSided ? kMaterialDoubleSided : 0) |
-              (m.alphaMode != AlphaMode::Blend ? kMaterialOpaque : 0);  // MASK: opaque where the alpha test keeps it
+              (m.alphaMode != AlphaMode::Blend ? kMaterialOpaque : 0) |  // MASK: opaque where the alpha test keeps it
+              int32_t(m.uv1Slots << kMaterialUv1Shift);
     mats.push_back(g);
   }
   d.materials = uploadVec("scene.materials", mats);
@@ -276,7 +283,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 }
 
 size_t DeviceScene::bytes() const {
-  return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(colors) + viewBytes(indices) +
+  return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(uvs1) + viewBytes(colors) + viewBytes(tangents) + viewBytes(indices) +
          viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
          viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) +
          viewBytes(srgbEncodePacked) + viewBytes(lines) + viewBytes(points) + viewBytes(skinJoints) + viewBytes(skinWeights) +

@@ -18,7 +18,9 @@ struct DeviceScene {
   DView<float3> positions;  // object space, per source vertex
   DView<float3> normals;
   DView<float2> uvs;      // empty when no material samples a texture
+  DView<float2> uvs1;     // the second coordinates (Scene::uvs1), empty when no material samples them
   DView<float4> colors;   // empty when no primitive has COLOR_0
+  DView<float4> tangents;  // normal mapping's (Scene::tangents), object space; empty when no material has a normal map
   DView<uint32_t> indices;  // 3 per source triangle, relative to the primitive's first vertex
   DView<DrawGPU> draws;
   DView<uint32_t> drawTriStart;   // dstTri of each draw, for triangle -> draw lookup
@@ -53,7 +55,7 @@ struct DeviceScene {
   // Whether the host computes the draws' MVPs and uploads them with the
   // camera (Renderer::enqueue), or the vertex stage computes them.
   bool hostMvps() const { return numDraws <= kHostMatricesMaxDraws; }
-  bool hasUV = false, hasColor = false, hasTextures = false;
+  bool hasUV = false, hasColor = false, hasTextures = false, hasTangents = false, hasUV1 = false;
   // MASK and BLEND materials (docs/transparency.md): per draw its class and
   // cutoff, uploaded only when some drawn primitive has one of them.
   DView<AlphaDraw> alphaDraws;

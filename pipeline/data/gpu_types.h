@@ -41,6 +41,9 @@ struct MaterialGPU {
   int32_t flags;     // kMaterialUnlit | kMaterialDoubleSided | kMaterialOpaque
 };
 constexpr int32_t kMaterialUnlit = 1, kMaterialDoubleSided = 2, kMaterialOpaque = 4;
+// flags >> kMaterialUv1Shift: Material::uv1Slots, the texture slots
+// (TextureSlot) that sample the second coordinates (DeviceScene::uvs1).
+constexpr int32_t kMaterialUv1Shift = 3;
 
 // A KHR_lights_punctual light in world space (host/scene/scene.h PunctualLight).
 struct PunctualGPU {

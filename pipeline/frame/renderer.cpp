@@ -48,8 +48,8 @@ uint64_t rasterTriBytes(uint64_t n) { return mulSat(n, sizeof(RasterTri) + 5 * s
 // The host Scene's own arrays (the caller keeps it while rendering).
 uint64_t hostSceneBytes(const Scene& s) {
   uint64_t b = mulSat(s.positions.size() + s.normals.size(), sizeof(float3));
-  b = addSat(b, mulSat(s.uvs.size(), sizeof(float2)));
-  b = addSat(b, mulSat(s.colors.size(), sizeof(float4)));
+  b = addSat(b, mulSat(s.uvs.size() + s.uvs1.size(), sizeof(float2)));
+  b = addSat(b, mulSat(s.colors.size() + s.tangents.size(), sizeof(float4)));
   b = addSat(b, mulSat(s.indices.size() + s.lineIndices.size() + s.pointIndices.size(), sizeof(uint32_t)));
   b = addSat(b, mulSat(s.draws.size(), sizeof(Draw)));
   for (const Texture& t : s.textures) b = addSat(b, mulSat(t.rgba.size(), sizeof(uint32_t)));
@@ -60,8 +60,8 @@ const Scene& admitScene(const Scene& s, uint64_t budget) {
   uint64_t texels = 0;
   for (const Texture& t : s.textures) texels = addSat(texels, mulSat(uint64_t(t.width), uint64_t(t.height)));
   uint64_t sceneBytes = mulSat(s.positions.size(), 2 * sizeof(float3));
-  sceneBytes = addSat(sceneBytes, mulSat(s.uvs.size(), sizeof(float2)));
-  sceneBytes = addSat(sceneBytes, mulSat(s.colors.size(), sizeof(float4)));
+  sceneBytes = addSat(sceneBytes, mulSat(s.uvs.size() + s.uvs1.size(), sizeof(float2)));
+  sceneBytes = addSat(sceneBytes, mulSat(s.colors.size() + s.tangents.size(), sizeof(float4)));
   sceneBytes = addSat(sceneBytes, mulSat(s.indices.size(), sizeof(uint32_t)));
   sceneBytes = addSat(sceneBytes, mulSat(s.draws.size(), sizeof(DrawGPU) + 2 * sizeof(uint32_t)));
   sceneBytes = addSat(sceneBytes, mulSat(texels, 2 * 4 * 4 / 3));  // device texels with mipmaps, host copy

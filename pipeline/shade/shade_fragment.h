@@ -39,6 +39,7 @@ struct TriFrag {
   float4 baseColor{1.0f, 1.0f, 1.0f, 1.0f};
   int32_t textured = 0;
   int32_t material = -1, mirrored = 0;  // the draw's (the glTF model reads the rest of its material)
+  uint32_t draw = 0;                    // its index (the glTF model's tangents take its matrix)
   TextureGPU tex{};
   // The raster triangle's fields that every fragment reads (bary()), and the
   // eye: copied here once per triangle. Read through `t` they were loaded
@@ -65,6 +66,8 @@ struct Shade {
   DView<DrawIndex> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
   DView<float2> uvs;
   DView<float4> colors;
+  DView<float4> tangents;  // DeviceScene::tangents (read when hasTangent)
+  DView<float2> uvs1;      // DeviceScene::uvs1 (read when hasUV1)
   DView<MaterialGPU> materials;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;
@@ -75,6 +78,7 @@ struct Shade {
   DView<uint32_t> encodePacked;   // sRGB encode, DeviceScene::srgbEncodePacked (packSrgb8Packed)
   uint32_t numDraws;
   int32_t hasUV, hasColor;
+  int32_t hasTangent = 0, hasUV1 = 0;
   // frame
   DView<RasterTri> tris;
   DView<uint64_t> vis;
@@ -167,6 +171,7 @@ struct Shade {
       }
       f.material = dr.material;
       f.mirrored = dr.mirrored;
+      f.draw = d;
       if (dr.material >= 0) {
         const MaterialGPU& m = materials(dr.material);
         f.baseColor = m.baseColor;
@@ -288,6 +293,77 @@ struct Shade {
     return sampleBilinear(tex, texels, decode, uv.x, uv.y);
   }
 
+  // A set of texture coordinates at a fragment: the point, its derivatives
+  // one pixel right and up (when the filter takes them) and the triangle's
+  // three corners.
+  struct UvSet {
+    float2 uv{0.0f, 0.0f}, dx{0.0f, 0.0f}, dy{0.0f, 0.0f};
+    float2 t0{0.0f, 0.0f}, t1{0.0f, 0.0f}, t2{0.0f, 0.0f};
+  };
+  KOKKOS_INLINE_FUNCTION static float2 lerp3(float2 a, float2 b, float2 c, float b0, float b1, float b2) {
+    return {a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+  }
+  KOKKOS_INLINE_FUNCTION static UvSet uvSet(float2 t0, float2 t1, float2 t2, const float b[3], const float bx[3],
+                                            const float by[3], bool derivatives) {
+    UvSet c;
+    c.t0 = t0;
+    c.t1 = t1;
+    c.t2 = t2;
+    c.uv = lerp3(t0, t1, t2, b[0], b[1], b[2]);
+    if (derivatives) {
+      const float2 ux = lerp3(t0, t1, t2, bx[0], bx[1], bx[2]), uy = lerp3(t0, t1, t2, by[0], by[1], by[2]);
+      c.dx = float2{ux.x - c.uv.x, ux.y - c.uv.y};
+      c.dy = float2{uy.x - c.uv.x, uy.y - c.uv.y};
+    }
+    return c;
+  }
+
+  // The normal-mapped normal at a fragment whose interpolated normal is N
+  // (turned towards the viewer when `back`). The tangent frame: the
+  // primitive's tangents (the file's TANGENT or generated at load,
+  // Scene::tangents) interpolated and moved to the world by the draw's
+  // matrix, else the triangle's dP/du (skinned draws, whose tangents the
+  // vertex stage does not pose, and primitives without tangents); made
+  // orthogonal to N, the bitangent w N x T (w: the tangents' handedness,
+  // turned by a mirroring matrix so that it stays the file's bitangent).
+  // A back face turns all three, as the Khronos renderer does.
+  KOKKOS_INLINE_FUNCTION float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
+                                             float3 N, bool back, const UvSet& c) const {
+    float3 T{0.0f, 0.0f, 0.0f};
+    float w = 1.0f;
+    if (hasTangent) {
+      const DrawGPU& dr = draws(f.draw);
+      const float4 t0 = tangents(f.s0), t1 = tangents(f.s1), t2 = tangents(f.s2);
+      const float tw = t0.w * b0 + t1.w * b1 + t2.w * b2;
+      if (dr.skinJoint < 0 && tw != 0.0f) {
+        const float3 to{t0.x * b0 + t1.x * b1 + t2.x * b2, t0.y * b0 + t1.y * b1 + t2.y * b2,
+                        t0.z * b0 + t1.z * b1 + t2.z * b2};
+        const float* M = dr.modelF.m;
+        T = float3{M[0] * to.x + M[4] * to.y + M[8] * to.z, M[1] * to.x + M[5] * to.y + M[9] * to.z,
+                   M[2] * to.x + M[6] * to.y + M[10] * to.z};
+        T = T - N * dot(N, T);
+        w = (tw < 0.0f) != (f.mirrored != 0) ? -1.0f : 1.0f;
+      }
+    }
+    if (!(dot(T, T) > 1e-12f)) {
+      // dP/du of the triangle (position and uv are both linear over it).
+      const float3 e1 = f.pos[1] - f.pos[0], e2 = f.pos[2] - f.pos[0];
+      const float du1 = c.t1.x - c.t0.x, dv1 = c.t1.y - c.t0.y;
+      const float du2 = c.t2.x - c.t0.x, dv2 = c.t2.y - c.t0.y;
+      const float det = du1 * dv2 - du2 * dv1;
+      T = det != 0.0f ? (e1 * dv2 - e2 * dv1) * (1.0f / det) : e1;
+      T = T - N * dot(N, T);
+      w = 1.0f;
+    }
+    const float s = back ? -1.0f : 1.0f;
+    const float3 Ng = N * s;
+    if (!(dot(T, T) > 0.0f)) return Ng;
+    T = normalize(T);
+    const float3 B = cross(N, T) * (w * s);
+    const float4 nt = sampleMaterial(m.normalTexture, c.uv, unorm, c.dx, c.dy);
+    return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T * s, B, Ng);
+  }
+
   // The glTF 2.0 metallic-roughness model (pbr_shading.h) at a fragment with
   // barycentrics b and interpolated normal N, position P: the material's
   // factors times its textures, the file's punctual lights (else --light,
@@ -303,21 +379,23 @@ struct Shade {
     if (f.material >= 0) m = materials(f.material);
     const bool textured = hasUV && (m.texture >= 0 || m.mrTexture >= 0 || m.normalTexture >= 0 ||
                                     m.occlusionTexture >= 0 || m.emissiveTexture >= 0);
-    float2 uv{0.0f, 0.0f}, dx{0.0f, 0.0f}, dy{0.0f, 0.0f};
+    // The material's coordinates: the first set, and the second where some
+    // of its textures sample another set or transform (uv1Slots).
+    const uint32_t on1 = hasUV1 ? uint32_t(m.flags) >> kMaterialUv1Shift : 0u;
+    UvSet c0, c1;
     if (textured) {
-      uv = uvAt(f, b0, b1, b2);
-      if (p.filter == TexFilter::Trilinear || p.filter == TexFilter::Auto) {  // analytic derivatives, as the other modes take them
-        float c0, c1, c2;
-        bary(f, f.e, X, Y, ox + kSubOne, oy, c0, c1, c2);
-        const float2 ux = uvAt(f, c0, c1, c2);
-        bary(f, f.e, X, Y, ox, oy + kSubOne, c0, c1, c2);
-        const float2 uy = uvAt(f, c0, c1, c2);
-        dx = float2{ux.x - uv.x, ux.y - uv.y};
-        dy = float2{uy.x - uv.x, uy.y - uv.y};
+      const float b[3] = {b0, b1, b2};
+      float bx[3] = {0.0f, 0.0f, 0.0f}, by[3] = {0.0f, 0.0f, 0.0f};
+      const bool derivatives = p.filter == TexFilter::Trilinear || p.filter == TexFilter::Auto;
+      if (derivatives) {  // analytic derivatives, as the other modes take them
+        bary(f, f.e, X, Y, ox + kSubOne, oy, bx[0], bx[1], bx[2]);
+        bary(f, f.e, X, Y, ox, oy + kSubOne, by[0], by[1], by[2]);
       }
+      c0 = uvSet(f.uv[0], f.uv[1], f.uv[2], b, bx, by, derivatives);
+      if (on1) c1 = uvSet(uvs1(f.s0), uvs1(f.s1), uvs1(f.s2), b, bx, by, derivatives);
     }
     float4 base = m.baseColor;
-    if (textured && m.texture >= 0) base = base * sampleMaterial(m.texture, uv, lut, dx, dy);
+    if (textured && m.texture >= 0) base = base * sampleMaterial(m.texture, c0.uv, lut, c0.dx, c0.dy);
     if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
     const float alpha = (m.flags & kMaterialOpaque) || f.material < 0 ? 1.0f : base.w;
     const float3 baseRgb{base.x, base.y, base.z};
@@ -325,7 +403,8 @@ struct Shade {
 
     pbr::Surface s{baseRgb, clamp01(m.metallic), clamp01(m.roughness)};
     if (textured && m.mrTexture >= 0) {
-      const float4 mr = sampleMaterial(m.mrTexture, uv, unorm, dx, dy);
+      const UvSet& c = on1 >> SlotMetalRough & 1u ? c1 : c0;
+      const float4 mr = sampleMaterial(m.mrTexture, c.uv, unorm, c.dx, c.dy);
       s.roughness = clamp01(s.roughness * mr.y);
       s.metallic = clamp01(s.metallic * mr.z);
     }
@@ -334,26 +413,9 @@ struct Shade {
     // normal towards the viewer, as the specification says.
     const float3 face = cross(f.pos[1] - f.pos[0], f.pos[2] - f.pos[0]);
     const bool back = (dot(face, V) < 0.0f) != (f.mirrored != 0);
-    float3 Ng = back ? N * -1.0f : N;
-    N = Ng;
-    if (textured && m.normalTexture >= 0) {
-      // Tangent: dP/du of the triangle (position and uv are both linear
-      // over it), made orthogonal to the interpolated normal; bitangent
-      // N x T, as the Khronos renderer builds them where a file has no tangents.
-      const float3 e1 = f.pos[1] - f.pos[0], e2 = f.pos[2] - f.pos[0];
-      const float du1 = f.uv[1].x - f.uv[0].x, dv1 = f.uv[1].y - f.uv[0].y;
-      const float du2 = f.uv[2].x - f.uv[0].x, dv2 = f.uv[2].y - f.uv[0].y;
-      const float det = du1 * dv2 - du2 * dv1;
-      float3 T = det != 0.0f ? (e1 * dv2 - e2 * dv1) * (1.0f / det) : e1;
-      if (back) T = T * -1.0f;
-      T = T - Ng * dot(Ng, T);
-      if (dot(T, T) > 0.0f) {
-        T = normalize(T);
-        const float3 B = cross(Ng, T);
-        const float4 nt = sampleMaterial(m.normalTexture, uv, unorm, dx, dy);
-        N = pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T, B, Ng);
-      }
-    }
+    const float3 Ng = back ? N * -1.0f : N;
+    if (textured && m.normalTexture >= 0) N = normalMapped(f, m, b0, b1, b2, N, back, on1 >> SlotNormal & 1u ? c1 : c0);
+    else N = Ng;
 
     float3 color{0.0f, 0.0f, 0.0f};
     if (numPunctual > 0) {
@@ -377,15 +439,18 @@ struct Shade {
     // Indirect light (the environment's, else an ambient term on the
     // diffuse part), darkened by the occlusion texture: only it.
     float ao = 1.0f;
-    if (textured && m.occlusionTexture >= 0)
-      ao = 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, uv, unorm, dx, dy).x - 1.0f);
+    if (textured && m.occlusionTexture >= 0) {
+      const UvSet& c = on1 >> SlotOcclusion & 1u ? c1 : c0;
+      ao = 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, c.uv, unorm, c.dx, c.dy).x - 1.0f);
+    }
     if (p.useEnv)
       color = color + iblShade(p.env, N, V, s.base, s.metallic, s.roughness, ao);
     else if (numPunctual == 0)
       color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
     float3 emissive = m.emissive;
     if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
-      const float4 et = sampleMaterial(m.emissiveTexture, uv, lut, dx, dy);
+      const UvSet& c = on1 >> SlotEmissive & 1u ? c1 : c0;
+      const float4 et = sampleMaterial(m.emissiveTexture, c.uv, lut, c.dx, c.dy);
       emissive = emissive * float3{et.x, et.y, et.z};
     }
     color = color + emissive;

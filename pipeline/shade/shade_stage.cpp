@@ -88,6 +88,10 @@ shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParam
   k.triDraw = s.triDraw;
   k.uvs = s.uvs;
   k.colors = s.colors;
+  k.tangents = s.tangents;
+  k.uvs1 = s.uvs1;
+  k.hasUV1 = s.hasUV1 ? 1 : 0;
+  k.hasTangent = s.hasTangents ? 1 : 0;
   k.materials = s.materials;
   k.textures = s.textures;
   k.texels = s.texels;

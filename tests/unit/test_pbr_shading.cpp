@@ -5,7 +5,9 @@
 // has a closed form. Each property has a case that fails without it: the
 // metal/dielectric mix, roughness, the metallicRoughness texture's channels,
 // emission and its strength, unlit, the lights' falloff, range window and
-// spot cone, single- and double-sided faces, normal maps.
+// spot cone, single- and double-sided faces, normal maps and their tangent
+// frame (the file's TANGENT, its handedness, a mirroring node, generated),
+// each texture's own texCoord set and transform.
 #include <catch2/catch.hpp>
 
 #include "base/color.h"
@@ -27,14 +29,16 @@ constexpr int kSize = 33;  // odd: a pixel centre lies on the axis
 
 // A 2x2 square in the z = 0 plane facing +z, with material 0, and a light
 // (KHR_lights_punctual) when `light` is not null, placed by a node with `lightNode`'s values.
+// `tangent`: a TANGENT attribute (4 floats a vertex) when not empty.
 Doc square(const json& material, const json* light = nullptr, const json& lightNode = json::object(),
-           bool withUv = false) {
+           bool withUv = false, const std::vector<float>& tangent = {}) {
   Doc doc;
   const std::vector<float> pos = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
   const std::vector<float> nrm = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
   const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
   json attrs = {{"POSITION", doc.vec3(pos)}, {"NORMAL", doc.vec3(nrm)}};
   if (withUv) attrs["TEXCOORD_0"] = doc.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 2);
+  if (!tangent.empty()) attrs["TANGENT"] = doc.floats(tangent, "VEC4", 4);
   const int ia = doc.accessor(doc.view(idx), kU16, idx.size(), "SCALAR");
   doc.prim({{"attributes", attrs}, {"indices", ia}, {"material", 0}});
   doc.j["materials"] = json::array({material});
@@ -200,6 +204,88 @@ TEST_CASE("pbr: metallicRoughness and normal textures", "[pbr]") {
   // scale 0 flattens any map back to the surface normal.
   const json flatten = {{"normalTexture", {{"index", 0}, {"scale", 0.0}}}};
   near(centre(loadDoc(textured(flatten, "tilt.png", white), d, "z")).x, brdfAxis(1, 0, 0.5, 1));
+}
+
+TEST_CASE("pbr: normal maps take the file's TANGENT and its handedness, else generated tangents", "[pbr]") {
+  TempDir d;
+  writePng(d.file("tilt.png"), 1, 1, {0xff8080ffu});  // tangent space (1, 0, 0): the normal becomes T
+  writePng(d.file("up.png"), 1, 1, {0xff80ff80u});    // (0, 1, 0): the normal becomes the bitangent
+  // Directional lights 45 degrees off the axis, from +x and from +y.
+  const double q = std::sin(kPi / 8), c = std::cos(kPi / 8);
+  const json fromX = {{"rotation", {0, q, 0, c}}}, fromY = {{"rotation", {-q, 0, 0, c}}};
+  auto each = [](float x, float y, float z, float w) {
+    std::vector<float> t;
+    for (int k = 0; k < 4; ++k) t.insert(t.end(), {x, y, z, w});
+    return t;
+  };
+  auto render = [&](const char* image, const json& light, const std::vector<float>& tangent, const char* name,
+                    bool mirror = false) {
+    json m = pbrMaterial(1, 1, 1, 0, 1);
+    m["normalTexture"] = {{"index", 0}};
+    Doc doc = square(m, &kSun, light, true, tangent);
+    doc.j["textures"] = json::array({{{"source", 0}}});
+    doc.j["images"] = json::array({{{"uri", image}}});
+    // x mirrored: the square still faces +z, its tangent turns to -x, its bitangent stays +y.
+    if (mirror) doc.j["nodes"][0]["scale"] = {-1, 1, 1};
+    return centre(loadDoc(doc, d, name)).x;
+  };
+  // The square's dP/du is +x: generated tangents (no TANGENT) turn the normal to the light from +x.
+  const float generated = render("tilt.png", fromX, {}, "gen");
+  CHECK(generated > 0.1f);
+  near(render("tilt.png", fromX, each(1, 0, 0, 1), "tx"), generated);
+  // A file's tangent rotated 90 degrees from dP/du turns it to +y instead:
+  // dark under the light from +x, lit under the one from +y.
+  CHECK(render("tilt.png", fromX, each(0, 1, 0, 1), "ty") < 0.005f);
+  near(render("tilt.png", fromY, each(0, 1, 0, 1), "tyy"), generated);
+  // Handedness: bitangent = w N x T, +y for w = 1, -y for w = -1.
+  near(render("up.png", fromY, each(1, 0, 0, 1), "wpos"), generated);
+  CHECK(render("up.png", fromY, each(1, 0, 0, -1), "wneg") < 0.005f);
+  near(render("up.png", fromY, {}, "wgen"), generated);  // generated: w = +1 (v runs down the image)
+  // A mirroring node keeps the file's bitangent (+y), not N x T of the mirrored tangent.
+  near(render("up.png", fromY, each(1, 0, 0, 1), "mirror", true), generated);
+}
+
+TEST_CASE("pbr: each texture samples its own texCoord set and transform", "[pbr]") {
+  TempDir d;
+  const json kNode = {{"translation", {0, 0, 5}}};
+  writePng(d.file("white.png"), 1, 1, {0xffffffffu});
+  writePng(d.file("halves.png"), 2, 1, {0xff000000u, 0xff0000ffu});  // left black, right red
+  // A black dielectric (its base colour texture white, on set 0) whose
+  // emission is the halves texture: set 0 puts every vertex on the black
+  // half, set 1 on the red one.
+  auto doc = [&](const json& emissive, const json* occlusion = nullptr, bool withSet1 = true) {
+    json m = pbrMaterial(0, 0, 0, 0, 1);
+    m["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    m["emissiveFactor"] = {1, 1, 1};
+    m["emissiveTexture"] = emissive;
+    if (occlusion) m["occlusionTexture"] = *occlusion;
+    Doc doc = square(m, &kSun, kNode);
+    const int set0 = doc.floats({0.25f, 0.5f, 0.25f, 0.5f, 0.25f, 0.5f, 0.25f, 0.5f}, "VEC2", 2);
+    const int set1 = doc.floats({0.75f, 0.5f, 0.75f, 0.5f, 0.75f, 0.5f, 0.75f, 0.5f}, "VEC2", 2);
+    doc.j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = set0;
+    if (withSet1) doc.j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = set1;
+    doc.j["textures"] = json::array({{{"source", 0}}, {{"source", 1}}});
+    doc.j["images"] = json::array({{{"uri", "white.png"}}, {{"uri", "halves.png"}}});
+    return doc;
+  };
+  const Scene one = loadDoc(doc({{"index", 1}}), d, "set0");
+  CHECK(one.uvs1.empty());  // one set and transform: no second coordinates
+  CHECK(centre(one).x < 0.1f);
+  const Scene two = loadDoc(doc({{"index", 1}, {"texCoord", 1}}), d, "set1");
+  CHECK(two.uvs1.size() == two.positions.size());
+  CHECK(centre(two).x > 0.9f);
+  // KHR_texture_transform's texCoord overrides the textureInfo's.
+  const json pick = {{"index", 1}, {"texCoord", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}};
+  CHECK(centre(loadDoc(doc(pick), d, "override")).x > 0.9f);
+  // A transform of the emissive texture alone (the base colour has none): u 0.25 + 0.5.
+  const json moved = {{"index", 1}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5, 0.0}}}}}}};
+  CHECK(centre(loadDoc(doc(moved), d, "moved")).x > 0.9f);
+  // Refused in one line: a set the primitive lacks, a third set or transform.
+  CHECK_THAT(docError(doc({{"index", 1}, {"texCoord", 1}}, nullptr, false), d, "lacks"),
+             Contains("material samples TEXCOORD_1 which the primitive lacks"));
+  const json third = {{"index", 1}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.25, 0.0}}}}}}};
+  CHECK_THAT(docError(doc({{"index", 1}, {"texCoord", 1}}, &third), d, "third"),
+             Contains("occlusionTexture: a third set of texture coordinates or transform"));
 }
 
 TEST_CASE("pbr: out-of-range material and light values are refused in one line", "[pbr]") {
