@@ -17,19 +17,14 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
+check = Tally()  # check(ok, what); check.failed counts the failures
 corpus = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz", "corpus")
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
 
 
 def run(*a, environment=None):
@@ -119,5 +114,5 @@ for seed, expect in (("anim_bad_times", "keyframe times must increase"), ("anim_
     err = r.stderr.strip()
     check(r.returncode == 1 and expect in err and len(err.splitlines()) == 1, f"{seed}: one line ({err})")
 
-print(f"{'FAILED' if failed else 'all passed'}: {failed} failing")
-sys.exit(1 if failed else 0)
+print(f"{'FAILED' if check.failed else 'all passed'}: {check.failed} failing")
+sys.exit(1 if check.failed else 0)

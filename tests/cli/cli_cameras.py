@@ -18,18 +18,13 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 def run(*a):
@@ -101,5 +96,5 @@ for bad, expect in ((["--camera", "2"], "the scene has 2 cameras (0..1)"),
 r = run("render", "builtin:default", "--camera", "0", "-o", os.path.join(args.workdir, "bad.png"))
 check(r.returncode == 1 and "has no cameras" in r.stderr, "--camera on a scene without cameras: one line")
 
-print(f"{'FAILED' if failed else 'all passed'}: {failed} failing")
-sys.exit(1 if failed else 0)
+print(f"{'FAILED' if check.failed else 'all passed'}: {check.failed} failing")
+sys.exit(1 if check.failed else 0)

@@ -14,20 +14,15 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
+check = Tally()  # check(ok, what); check.failed counts the failures
 draco = os.path.join(args.assimp, "draco", "2CylinderEngine.gltf")
 glb = os.path.join(args.assimp, "2CylinderEngine-glTF-Binary", "2CylinderEngine.glb")
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
 
 
 def run(*a):
@@ -50,7 +45,7 @@ for seed, expect in (("meshopt_grid", None), ("draco_grid", None),
 
 if not (os.path.exists(draco) and os.path.exists(glb)):
     print(f"SKIPPED: no {draco} or {glb} (apt-get install assimp-testmodels)")
-    sys.exit(1 if failed else 77)
+    sys.exit(1 if check.failed else 77)
 
 
 def coverage(path):
@@ -69,7 +64,7 @@ flags = r.stdout.split("camera (auto) ")[1].split("\n")[0].split() if "camera (a
 r = run("render", draco, "--size", "320x200", "-o", os.path.join(args.workdir, "draco.png"),
         "--aov", "primid=" + os.path.join(args.workdir, "draco.bin"), *flags)
 check(r.returncode == 0, f"the Draco engine renders from the same camera ({r.stderr.strip()})")
-if not failed:
+if not check.failed:
     a, b = coverage(os.path.join(args.workdir, "glb.bin")), coverage(os.path.join(args.workdir, "draco.bin"))
     both = sum(x and y for x, y in zip(a, b))
     either = sum(x or y for x, y in zip(a, b))
@@ -96,5 +91,5 @@ err = r.stderr.strip()
 check(r.returncode == 1 and "KHR_draco_mesh_compression" in err and len(err.splitlines()) == 1,
       f"a corrupt Draco stream: one line ({err[:200]})")
 
-print(f"{'FAILED' if failed else 'all passed'}: {failed} failing")
-sys.exit(1 if failed else 0)
+print(f"{'FAILED' if check.failed else 'all passed'}: {check.failed} failing")
+sys.exit(1 if check.failed else 0)

@@ -24,6 +24,7 @@ import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
@@ -32,14 +33,8 @@ env = dict(os.environ)
 env.update({"OMP_PROC_BIND": "false", "OMP_NUM_THREADS": "1", "OMPI_ALLOW_RUN_AS_ROOT": "1",
             "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1", "OMPI_MCA_btl": "self,vader,tcp"})
 env.pop("RAST_TEST_FAIL_RANK", None)
-failed = 0
+check = Tally()  # check(ok, what); check.failed counts the failures
 started = time.time()
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
-    failed += not ok
 
 
 def p(name):
@@ -193,4 +188,4 @@ else:
     print("note: no Serial twin with --distribute; the different-builds check is not run")
 
 print(f"{time.time() - started:.1f} s")
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

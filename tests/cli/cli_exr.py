@@ -18,19 +18,14 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import rastimg  # noqa: E402
 from exr_read import read_exr  # noqa: E402
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 from skip import skip  # noqa: E402
 
 args = arg_parser().parse_args()
 wd = os.path.abspath(args.workdir)
 os.makedirs(wd, exist_ok=True)
 env = dict(os.environ, OMP_PROC_BIND="false")
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 def rast(*a):
@@ -87,4 +82,4 @@ check(os.path.getsize(p("i.npy")) > 4 * 48 * 32, "the .npy beside it is written"
 before = open(f, "rb").read()
 r = rast("render", *scene, "-o", f, "--aov", f"depth={f}", "--shading", "glossy")
 check(r.returncode != 0 and open(f, "rb").read() == before, "a failed run leaves the existing .exr as it was")
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

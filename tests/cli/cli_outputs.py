@@ -14,18 +14,13 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 import rastimg  # noqa: E402
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 def rast(*a):
@@ -82,4 +77,4 @@ check(bool(row.get("device")) and row.get("backend") in ("OpenMP", "Serial", "Cu
 tps = row.get("triangles_per_second", 0)
 expect = row["triangles_in"] / (row["total_median_ms"] * 1e-3)
 check(tps > 0 and abs(tps - expect) <= 1e-5 * expect, f"triangles_per_second {tps:.6g} = triangles_in / median frame")
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

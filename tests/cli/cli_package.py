@@ -12,6 +12,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 from skip import skip  # noqa: E402
 
 args = arg_parser().parse_args()
@@ -39,13 +40,7 @@ def run(*cmd):
     return r.stdout
 
 
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 run(cmake, "--install", build, "--prefix", prefix)
@@ -76,4 +71,4 @@ with open(os.path.join(bad, "CMakeLists.txt"), "w") as fh:
 r = subprocess.run([cmake, "-S", bad, "-B", os.path.join(bad, "b"), f"-DCMAKE_PREFIX_PATH={prefix}"],
                    capture_output=True, text=True, env=env, timeout=300)
 check(r.returncode != 0, "find_package(rast 9.0) is refused by the version file")
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

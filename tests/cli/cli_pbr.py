@@ -24,19 +24,14 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 import rastimg  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 def run(*a, exe=None):
@@ -168,5 +163,5 @@ if serial:
 else:
     print("(no --rast-serial: the Serial comparison is skipped)")
 
-print(f"{'FAILED' if failed else 'passed'}: {failed} failure(s)")
-sys.exit(1 if failed else 0)
+print(f"{'FAILED' if check.failed else 'passed'}: {check.failed} failure(s)")
+sys.exit(1 if check.failed else 0)

@@ -14,6 +14,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 from skip import skip  # noqa: E402
 
 args = arg_parser().parse_args()
@@ -29,13 +30,7 @@ probe = subprocess.run([python, "-c", "import setuptools, wheel, pip"], capture_
 if probe.returncode != 0:
     skip(work, "pip, setuptools or wheel is missing (Debian: python3-pip python3-setuptools python3-wheel)")
 
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 target = os.path.join(work, "site")
@@ -55,4 +50,4 @@ print(r.stdout.strip(), r.stderr.strip()[-1000:])
 fields = r.stdout.split()
 check(r.returncode == 0 and fields and fields[0].startswith(target), "a fresh python imports the installed rast")
 check(len(fields) >= 5 and int(fields[-1]) > 0, "and renders the default scene (some pixels covered)")
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

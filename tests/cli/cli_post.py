@@ -16,18 +16,13 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 import rastimg  # noqa: E402
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 def rast(*a):
@@ -83,4 +78,4 @@ check(rows["plain"]["total_median_ms"] > 0 and rows["plain"]["staged_total_media
       "bench: the frame timed whole and stage by stage")
 stages = rows["post"]["stages_median_ms"]
 check(all(p in stages for p in ["ssao", "bloom", "tonemap", "encode"]), f"bench: per-pass times ({', '.join(stages)})")
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

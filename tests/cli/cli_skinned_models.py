@@ -20,6 +20,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "support"))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "scripts", "measure"))
 from script_args import arg_parser  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 from rastimg import read_png_rgba  # noqa: E402
 import skinned_models as sm  # noqa: E402
 
@@ -27,13 +28,7 @@ args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 # The view: orthographic, x and y in [-2, 3], 160 x 160 pixels (32 a unit).
@@ -166,4 +161,4 @@ for kind, times in (("arm", (0, 1.5)), ("tail", (0.5, 1.4))):
 rest = expected_pixels(skinned_box("arm", 0))
 bent = expected_pixels(skinned_box("arm", 1.5))
 check(abs(rest[1] - bent[1]) > 20, f"the arm's top edge moves between t=0 and t=1.5 ({rest[1]} -> {bent[1]})")
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

@@ -17,20 +17,14 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from script_args import arg_parser  # noqa: E402
-from cli_checks import one_line_error  # noqa: E402
+from cli_checks import one_line_error, Tally  # noqa: E402
 
 args = arg_parser().parse_args()
 os.makedirs(args.workdir, exist_ok=True)
 env = dict(os.environ)
 env.setdefault("OMP_PROC_BIND", "false")
-failed = 0
+check = Tally()  # check(ok, what); check.failed counts the failures
 W = args.workdir
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}")
-    failed += not ok
 
 
 def run(*a):
@@ -112,4 +106,4 @@ for out, words in ((p("plain.png"), "view number field"), (p("pct_%s.png"), "not
 r = run("render", "builtin:default", "--size", "8x8", "--cameras", p("missing.json"), "-o", p("m_%d.png"))
 check(not one_line_error(r, "not a readable file"), "a missing --cameras file is refused")
 
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

@@ -20,6 +20,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 import rastimg  # noqa: E402
 from skip import skip  # noqa: E402
+from cli_checks import Tally  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--rast", required=True)
@@ -32,20 +33,13 @@ except ImportError:
     skip(args.workdir, "numpy is not installed for this python (Debian: python3-numpy)")
 import rast  # noqa: E402
 
-failed = 0
+check = Tally()  # check(ok, what); check.failed counts the failures
 
 
 def render(*a, **k):
     """rast.render with numpy outputs (a GPU build's default is rast.DeviceArray: copied to the host here)."""
     k.setdefault("output", "numpy")
     return rast.render(*a, **k)
-
-
-
-def check(ok, what):
-    global failed
-    print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
-    failed += not ok
 
 
 def raises(exc, words, fn, *a, **k):
@@ -337,4 +331,4 @@ else:
         check(id2.__dlpack_device__() == (2, rast.device_index) and torch.from_dlpack(id2).data_ptr() == id2.data_ptr,
               "outputs on the GPU (DLPack device 2), shared with torch without a copy")
         raises(ValueError, ["contiguous"], rast.rasterize, tpc.t().contiguous().t(), ttc, (RH, RW))
-sys.exit(1 if failed else 0)
+sys.exit(1 if check.failed else 0)

@@ -25,3 +25,17 @@ def one_line_error(r, words):
         if w not in err:
             problems.append(f"stderr lacks {w!r}: {err[:300]!r}")
     return problems
+
+
+class Tally:
+    """The checks of a test script, counted: tally(ok, what) prints "ok  " or
+    "FAIL" and what was checked, and returns ok; `failed` counts the FAILs.
+    One object instead of a global counter and a check() in every script."""
+
+    def __init__(self):
+        self.failed = 0
+
+    def __call__(self, ok, what):
+        print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
+        self.failed += not ok
+        return ok
