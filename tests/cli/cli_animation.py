@@ -16,13 +16,9 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
-from script_args import arg_parser  # noqa: E402
-from cli_checks import Tally  # noqa: E402
+from cli_checks import Tally, cli_setup  # noqa: E402
 
-args = arg_parser().parse_args()
-os.makedirs(args.workdir, exist_ok=True)
-env = dict(os.environ)
-env.setdefault("OMP_PROC_BIND", "false")
+args, env = cli_setup()
 check = Tally()  # check(ok, what); check.failed counts the failures
 corpus = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz", "corpus")
 

@@ -39,3 +39,16 @@ class Tally:
         print(f"{'ok  ' if ok else 'FAIL'} {what}", flush=True)
         self.failed += not ok
         return ok
+
+
+def cli_setup():
+    """A CLI test's start: its arguments (tests/support/script_args.py) with
+    the work folder made, and the environment to run rast in (OMP_PROC_BIND
+    false unless set, as ctest sets it)."""
+    import os
+    from script_args import arg_parser
+    args = arg_parser().parse_args()
+    os.makedirs(args.workdir, exist_ok=True)
+    env = dict(os.environ)
+    env.setdefault("OMP_PROC_BIND", "false")
+    return args, env
