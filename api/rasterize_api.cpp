@@ -17,8 +17,8 @@ namespace lib {
 
 namespace {
 
-void checkInputs(const ExecutionSpace& exec, const View<const float* [4]>& pos, const View<const int32_t* [3]>& tri,
-                 int width, int height, const View<float** [4]>& out, const View<int32_t**>& ids) {
+void checkSizes(const View<const int32_t* [3]>& tri, int width, int height, const View<float** [4]>& out,
+                const View<int32_t**>& ids) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error("rasterize: resolution " + std::to_string(width) + "x" + std::to_string(height) +
                 " is outside 1..16384 per side");
@@ -27,40 +27,27 @@ void checkInputs(const ExecutionSpace& exec, const View<const float* [4]>& pos, 
     throw Error("rasterize: output views must be [height][width][4] and [height][width]");
   if (tri.extent(0) > size_t(std::numeric_limits<uint32_t>::max() - 2) / 3)
     throw Error("rasterize: too many triangles (" + std::to_string(tri.extent(0)) + ")");
-  const int64_t nv = int64_t(pos.extent(0)), nt = int64_t(tri.extent(0));
-  // One pass over the vertices then the indices, in that order on exec (after
-  // the caller's work there): the first bad one, nv + 3 nt when none. One
-  // reduction, so one wait for the device.
-  int64_t firstBad = nv + 3 * nt;
-  Kokkos::parallel_reduce(
-      "rast::api::check_inputs", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, nv + 3 * nt),
-      KOKKOS_LAMBDA(const int64_t j, int64_t& first) {
-        bool ok;
-        if (j < nv) {
-          ok = true;
-          for (int k = 0; k < 4; ++k) ok = ok && (pos(j, k) - pos(j, k)) == 0.0f;  // false for NaN and infinities
-          ok = ok && pos(j, 3) > 0.0f;
-        } else {
-          const int64_t i = j - nv;
-          const int32_t v = tri(i / 3, i % 3);
-          ok = v >= 0 && v < nv;
-        }
-        if (!ok && j < first) first = j;
-      },
-      Kokkos::Min<int64_t>(firstBad));
-  const int64_t badVertex = firstBad < nv ? firstBad : nv;
-  const int64_t badIndex = firstBad < nv ? 3 * nt : firstBad - nv;
-  if (badVertex < nv) {
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(pos, badVertex, Kokkos::ALL));
-    throw Error("rasterize: vertex " + std::to_string(badVertex) + " is (" + std::to_string(h(0)) + ", " +
+}
+
+// A vertex the pipeline can draw: finite, w > 0 (false for NaN and infinities).
+KOKKOS_INLINE_FUNCTION bool goodVertex(float x, float y, float z, float w) {
+  return (x - x) == 0.0f && (y - y) == 0.0f && (z - z) == 0.0f && (w - w) == 0.0f && w > 0.0f;
+}
+
+// The error for the first bad input j (vertices first, then the 3 nt
+// indices), in the words the CLI and the Python module print.
+[[noreturn]] void badInput(const View<const float* [4]>& pos, const View<const int32_t* [3]>& tri, int64_t j) {
+  const int64_t nv = int64_t(pos.extent(0));
+  if (j < nv) {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(pos, j, Kokkos::ALL));
+    throw Error("rasterize: vertex " + std::to_string(j) + " is (" + std::to_string(h(0)) + ", " +
                 std::to_string(h(1)) + ", " + std::to_string(h(2)) + ", " + std::to_string(h(3)) +
                 "): positions must be finite with w > 0 (near-plane clipping of clip-space input is not supported yet)");
   }
-  if (badIndex < 3 * nt) {
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(tri, badIndex / 3, Kokkos::ALL));
-    throw Error("rasterize: triangle " + std::to_string(badIndex / 3) + " has index " +
-                std::to_string(h(badIndex % 3)) + ", outside 0.." + std::to_string(nv - 1));
-  }
+  const int64_t i = j - nv;
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), Kokkos::subview(tri, i / 3, Kokkos::ALL));
+  throw Error("rasterize: triangle " + std::to_string(i / 3) + " has index " + std::to_string(h(i % 3)) +
+              ", outside 0.." + std::to_string(nv - 1));
 }
 
 bool defaultInstance(const ExecutionSpace& exec) {
@@ -72,6 +59,13 @@ bool defaultInstance(const ExecutionSpace& exec) {
 #endif
 }
 
+// Host memory the device copies into without a wait (page-locked on GPUs).
+#if KOKKOS_VERSION >= 40000
+using PinnedSpace = Kokkos::SharedHostPinnedSpace;
+#else
+using PinnedSpace = Kokkos::HostSpace;
+#endif
+
 }  // namespace
 
 // The renderer of a context is made for a vertex count, a triangle count and
@@ -79,9 +73,19 @@ bool defaultInstance(const ExecutionSpace& exec) {
 // each call. Nothing in the renderer is derived from the positions at upload
 // (no bounds, no per-triangle data: pipeline/data/device_scene.h), so the
 // frame is the one a fresh renderer of the same triangles draws.
+//
+// The inputs are checked by the kernel that writes them into the scene: the
+// first bad one (by position in the input) goes to a device scalar, copied to
+// page-locked host memory behind the kernel and read once the frame is done,
+// which the frame waits for anyway (its buffers' fit). So a call waits for the
+// device once for the frame and once at its end, and never just to check its
+// inputs. Bad vertices and indices are replaced by harmless ones (vertex 0 at
+// the origin) for the frame that is then thrown away.
 struct Rasterizer::Impl {
   std::unique_ptr<::rast::Renderer> renderer;
   int64_t nv = -1, nt = -1;
+  Kokkos::View<int64_t, MemorySpace> firstBad;
+  Kokkos::View<int64_t, PinnedSpace> firstBadHost;
 };
 
 Rasterizer::Rasterizer() : impl_(std::make_unique<Impl>()) {}
@@ -91,39 +95,64 @@ Rasterizer& Rasterizer::operator=(Rasterizer&&) noexcept = default;
 
 void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<const int32_t* [3]> tri,
                            int width, int height, View<float** [4]> out, View<int32_t**> ids) {
-  checkInputs(exec, pos, tri, width, height, out, ids);
+  checkSizes(tri, width, height, out, ids);
   const int64_t nv = int64_t(pos.extent(0)), nt = int64_t(tri.extent(0));
   if (nt == 0) {
+    // Nothing to draw; the positions are still checked (one reduction).
+    int64_t first = nv;
+    Kokkos::parallel_reduce(
+        "rast::api::check_positions", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, nv),
+        KOKKOS_LAMBDA(const int64_t j, int64_t& f) {
+          if (!goodVertex(pos(j, 0), pos(j, 1), pos(j, 2), pos(j, 3)) && j < f) f = j;
+        },
+        Kokkos::Min<int64_t>(first));
+    if (first < nv) badInput(pos, tri, first);
     Kokkos::deep_copy(exec, out, 0.0f);
     Kokkos::deep_copy(exec, ids, -1);
     exec.fence();
     return;
   }
-  if (!impl_->renderer || impl_->nv != nv || impl_->nt != nt) {
+  Impl& im = *impl_;
+  if (!im.renderer || im.nv != nv || im.nt != nt) {
     // A placeholder mesh of the right counts (every triangle on vertex 0),
     // uploaded once; the caller's data replaces it below.
-    impl_->renderer.reset();
+    im.renderer.reset();
     const std::vector<float3> p0(size_t(nv), float3{0.0f, 0.0f, 0.0f}), n0(size_t(nv), float3{0.0f, 0.0f, 1.0f});
     const std::vector<uint32_t> idx(size_t(3 * nt), 0u);
-    impl_->renderer = std::make_unique<::rast::Renderer>(meshScene(p0, &n0, nullptr, nullptr, idx, nullptr, {}));
-    impl_->nv = nv;
-    impl_->nt = nt;
+    im.renderer = std::make_unique<::rast::Renderer>(meshScene(p0, &n0, nullptr, nullptr, idx, nullptr, {}));
+    im.nv = nv;
+    im.nt = nt;
+  }
+  const int64_t none = nv + 3 * nt;
+  if (!im.firstBad.data()) {
+    im.firstBad = Kokkos::View<int64_t, MemorySpace>("rast::api::first_bad");
+    im.firstBadHost = Kokkos::View<int64_t, PinnedSpace>("rast::api::first_bad_host");
+    Kokkos::deep_copy(exec, im.firstBad, std::numeric_limits<int64_t>::max());
   }
   // The pipeline draws x/w, y/w, z/w with w = 1: the same window positions and
   // the same depth order (z/w) as the clip-space input. The division rounds as
   // the host's (IEEE, no contraction: docs/determinism.md), so every backend
   // draws the same triangles.
-  const DeviceScene& ds = impl_->renderer->scene();
+  const DeviceScene& ds = im.renderer->scene();
   const auto positions = ds.positions;
   const auto indices = ds.indices;
+  const auto firstBad = im.firstBad;
   Kokkos::parallel_for(
-      "rast::api::positions_in", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, nv), KOKKOS_LAMBDA(const int64_t i) {
-        const float w = pos(i, 3);
-        positions(i) = float3{pos(i, 0) / w, pos(i, 1) / w, pos(i, 2) / w};
+      "rast::api::inputs_in", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, none), KOKKOS_LAMBDA(const int64_t j) {
+        bool ok;
+        if (j < nv) {
+          const float x = pos(j, 0), y = pos(j, 1), z = pos(j, 2), w = pos(j, 3);
+          ok = goodVertex(x, y, z, w);
+          positions(j) = ok ? float3{x / w, y / w, z / w} : float3{0.0f, 0.0f, 0.0f};
+        } else {
+          const int64_t i = j - nv;
+          const int32_t v = tri(i / 3, i % 3);
+          ok = v >= 0 && v < nv;
+          indices(i) = ok ? uint32_t(v) : 0u;
+        }
+        if (!ok) Kokkos::atomic_fetch_min(&firstBad(), j);
       });
-  Kokkos::parallel_for(
-      "rast::api::indices_in", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, 3 * nt),
-      KOKKOS_LAMBDA(const int64_t i) { indices(i) = uint32_t(tri(i / 3, i % 3)); });
+  Kokkos::deep_copy(exec, im.firstBadHost, im.firstBad);
   // The renderer draws on the space's default instance: exec's work must be
   // done first, unless exec is that instance (then the order is the stream's).
   if (!defaultInstance(exec)) exec.fence();
@@ -138,13 +167,21 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
   rs.shading = ShadingMode::Lambert;
   rs.wantPrimId = true;
   impl_->renderer->render(cam, rs);
+  exec.fence();  // the copy of firstBad (the frame itself is waited for by render)
+  if (im.firstBadHost() < none) {
+    const int64_t j = im.firstBadHost();
+    Kokkos::deep_copy(exec, im.firstBad, std::numeric_limits<int64_t>::max());
+    badInput(pos, tri, j);
+  }
   const auto prim = impl_->renderer->frameBuffers().primId;
 
+  // One thread a pixel along rows, so neighbouring threads write neighbouring
+  // outputs.
   Kokkos::parallel_for(
-      "rast::api::barycentrics",
-      Kokkos::MDRangePolicy<ExecutionSpace, Kokkos::Rank<2>>(exec, {0, 0}, {int64_t(height), int64_t(width)}),
-      KOKKOS_LAMBDA(const int64_t y, const int64_t x) {
-        const uint32_t id = prim(y * width + x);
+      "rast::api::barycentrics", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, int64_t(height) * width),
+      KOKKOS_LAMBDA(const int64_t p) {
+        const int64_t y = p / width, x = p - y * width;
+        const uint32_t id = prim(p);
         if (id == 0) {
           for (int k = 0; k < 4; ++k) out(y, x, k) = 0.0f;
           ids(y, x) = -1;
@@ -175,6 +212,7 @@ void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<cons
 }
 
 int deviceIndex() { return ::rast::deviceIndex(); }
+uintptr_t deviceStream() { return ::rast::deviceStream(); }
 
 }  // namespace lib
 }  // namespace rast

@@ -1,11 +1,15 @@
-// Which GPU the execution space runs on, for the library's callers that must
-// name it (the Python module's DLPack arrays carry a device index, and
-// consumers such as torch check it). Kokkos answers with device_id() since
+// Which GPU the execution space runs on, and which stream its default
+// instance queues work on, for the library's callers that must name them (the
+// Python module's DLPack arrays carry a device index, and consumers such as
+// torch check it; a DLPack producer given the stream makes its data ready on
+// it without a wait on the host). Kokkos answers with device_id() since
 // 4.1; the Kokkos 3.4 that the HIP bootstrap builds asks the instance. Host
 // spaces have no device: -1.
 #pragma once
 
 #include "backends/exec_space.h"
+
+#include <cstdint>
 
 namespace rast {
 
@@ -19,6 +23,18 @@ inline int deviceIndex() {
   return Exec().cuda_device();
 #else
   return -1;
+#endif
+}
+
+// The default instance's stream as an integer; 0 on host backends (and for
+// a GPU instance on the legacy default stream).
+inline std::uintptr_t deviceStream() {
+#if defined(RAST_EXEC_HIP)
+  return reinterpret_cast<std::uintptr_t>(Exec().hip_stream());
+#elif defined(RAST_EXEC_CUDA)
+  return reinterpret_cast<std::uintptr_t>(Exec().cuda_stream());
+#else
+  return 0;
 #endif
 }
 

@@ -200,9 +200,20 @@ class BufferPool {
 // (the producer's deleter) when this goes out of scope.
 class Borrowed {
  public:
-  // obj: anything with __dlpack__, or a "dltensor" capsule.
+  // obj: anything with __dlpack__, or a "dltensor" capsule. A producer on the
+  // library's GPU is given the library's stream (the DLPack protocol's
+  // `stream`): it orders its own pending work before the library's on the
+  // device (torch records an event on its current stream for the library's
+  // stream to wait on), so no caller waits on the host.
   Borrowed(py::handle obj, const std::string& name) : name_(name) {
-    py::object cap = py::hasattr(obj, "__dlpack__") ? obj.attr("__dlpack__")() : py::reinterpret_borrow<py::object>(obj);
+    py::object cap;
+    if (!py::hasattr(obj, "__dlpack__")) {
+      cap = py::reinterpret_borrow<py::object>(obj);
+    } else if (onLibraryGpu(obj)) {
+      cap = obj.attr("__dlpack__")(py::arg("stream") = libraryStreamArgument());
+    } else {
+      cap = obj.attr("__dlpack__")();
+    }
     if (!PyCapsule_IsValid(cap.ptr(), "dltensor"))
       throw py::type_error(name + ": expected an object with __dlpack__ (or an unused DLPack capsule)");
     m_ = static_cast<DLManagedTensor*>(PyCapsule_GetPointer(cap.ptr(), "dltensor"));
@@ -266,6 +277,21 @@ class Borrowed {
   }
 
  private:
+  // A producer that says (__dlpack_device__) it lives on the library's GPU.
+  static bool onLibraryGpu(py::handle obj) {
+    const DLDevice lib = libraryDevice();
+    if (lib.device_type == kDLCPU || !py::hasattr(obj, "__dlpack_device__")) return false;
+    const py::tuple d = obj.attr("__dlpack_device__")();
+    return d.size() == 2 && d[0].cast<int>() == int(lib.device_type) && d[1].cast<int>() == lib.device_id;
+  }
+  // DLPack's stream numbers: CUDA's legacy default stream is 1 (0 is not
+  // allowed there); ROCm's default stream is 0.
+  static py::int_ libraryStreamArgument() {
+    const uintptr_t s = rast::lib::deviceStream();
+    if (s == 0 && libraryDevice().device_type == kDLCUDA) return py::int_(1);
+    return py::int_(size_t(s));
+  }
+
   std::string name_;
   DLManagedTensor* m_ = nullptr;
 };

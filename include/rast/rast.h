@@ -176,6 +176,11 @@ class Rasterizer {
 
 // The GPU this library runs on (the execution space's device), -1 in host builds.
 int deviceIndex();
+// The stream the library's work is queued on in GPU builds (the default
+// execution space instance's), as an integer; 0 in host builds. A caller's
+// DLPack producer given it (`__dlpack__(stream=...)`) orders its pending work
+// before the library's reads without a wait on the host.
+uintptr_t deviceStream();
 
 }  // namespace lib
 }  // namespace rast

@@ -228,11 +228,8 @@ def rasterize(pos, tri, resolution, context=None, output="auto"):
         h, w = (int(v) for v in resolution)
     except (TypeError, ValueError):
         raise ValueError(f"resolution: expected (height, width), got {resolution!r}") from None
-    for x in (p, t):  # work queued on torch's stream done before rast reads the tensors (once per device)
-        if _is_torch(x) and x.device.type == "cuda":
-            import torch
-            torch.cuda.current_stream(x.device).synchronize()
-            break
+    # Tensors on the GPU are ordered before rast's reads by the DLPack
+    # protocol (the module passes its stream to __dlpack__), not by a wait here.
     out, ids = _rast._rasterize(_context(context), p, t, h, w)
     if output == "auto":
         output = "torch" if torch_in else "numpy" if numpy_in or not on_device else "dlpack"

@@ -273,6 +273,14 @@ badtri[3, 2] = 10**6
 raises(ValueError, ["triangle 3", "1000000", "outside"], rast.rasterize, pos, badtri, (RH, RW))
 badtri[3, 2] = -2
 raises(ValueError, ["triangle 3", "-2"], rast.rasterize, pos, badtri, (RH, RW))
+# A context's inputs are checked by the kernel that reads them (the first bad
+# one reported, vertices before indices); the context stays usable after.
+raises(ValueError, ["vertex 5"], rast.rasterize, nanpos, badtri, (RH, RW), context=ctx)
+badtri[1, 0] = 10**6
+raises(ValueError, ["triangle 1", "1000000"], rast.rasterize, pos, badtri, (RH, RW), context=ctx)
+after = rast.rasterize(pos, tri, (RH, RW), context=ctx)
+check(np.array_equal(after[1][0], ids) and np.array_equal(after[0][0], o),
+      "a context that raised draws the next good call as before")
 raises(ValueError, ["contiguous"], rast.rasterize, np.asfortranarray(pos), tri, (RH, RW))
 raises(ValueError, ["contiguous"], rast.rasterize, pos[::2], tri[: T // 2], (RH, RW))
 if not rast.on_device:  # a CPU build takes host memory only
