@@ -192,7 +192,7 @@ View<const T* [Width]> inLibraryMemory(const Borrowed& b, int64_t rows) {
 py::tuple rasterize(RasterizeContext& ctx, py::handle posH, py::handle triH, int height, int width) {
   if (height < 1 || width < 1 || height > 16384 || width > 16384)
     throw py::value_error("resolution: (height, width) must be within 1..16384");
-  Borrowed pb(posH, "pos"), tb(triH, "tri");
+  Borrowed pb(posH, "pos"), tb(triH, "tri", pb.ordered());
   const int pr = pb.check<float>({2, 3}, 4);
   tb.check<int32_t>({2}, 3);
   const int64_t batch = pr == 3 ? pb.dim(0) : 1, nv = pb.dim(pr - 2), nt = tb.dim(0);

@@ -68,6 +68,23 @@ def main():
             full()
         print(f"{name}: {len(tri)} triangles; wall median of 200: rast.rasterize {wall_ms(torch, full, 200):.4f} ms, "
               f"C++ entry alone {wall_ms(torch, entry, 200):.4f} ms", flush=True)
+        # The Python wrapper's pieces, host time of each (median of 2000).
+        out, ids = entry()
+        stream = rast._rast.device_stream if hasattr(rast._rast, "device_stream") else 1
+        pieces = {
+            "_producer(pos)": lambda: rast._producer(p, "pos", np.float32, [("B", "V", 4), ("V", 4)]),
+            "pos.__dlpack__(stream)": lambda: p.__dlpack__(stream=stream),
+            "pos.__dlpack__()": lambda: p.__dlpack__(),
+            "torch.from_dlpack(out)": lambda: torch.from_dlpack(out),
+            "current_stream(dev)": lambda: torch.cuda.current_stream(p.device),
+        }
+        for k, fn in pieces.items():
+            ts = []
+            for _ in range(2000):
+                t0 = time.perf_counter()
+                fn()
+                ts.append((time.perf_counter() - t0) * 1e6)
+            print(f"  {k:28s} {median(ts):8.2f} us", flush=True)
         with profile(activities=[ProfilerActivity.CPU, ProfilerActivity.CUDA]) as prof:
             for _ in range(12):
                 full()
