@@ -100,6 +100,7 @@ const std::vector<ViewerAction>& viewerActions() {
         // name, keys, help; kind, widget, overlay label; options, current, apply (, stepFrom, stepSkip)
         {"frame", "F", "frame the scene", K::Command, W::Button, "frame scene", nullptr, nullptr,
          [](Viewer& v, int) {
+           v.leaveFileCamera();
            v.orbit_.frame(v.boundsLo_, v.boundsHi_);
            v.notice("framed the scene");
            v.dirty_ = true;
@@ -133,6 +134,29 @@ const std::vector<ViewerAction>& viewerActions() {
          "transparency", [](const Viewer&) { return namesOf(transparencyModes()); },
          [](const Viewer& v) { return indexOf(transparencyModes(), v.rs_.transparency); },
          [](Viewer& v, int i) { v.rs_.transparency = transparencyModes()[size_t(i)]; }},
+        // The glTF file's cameras (#37): V steps through them after the orbit camera.
+        {"camera", "V", "next / previous camera: the orbit camera, then the file's", K::Cycle, W::Combo, "camera",
+         [](const Viewer& v) {
+           std::vector<std::string> names = {"orbit"};
+           names.insert(names.end(), v.fileCameraNames_.begin(), v.fileCameraNames_.end());
+           return names;
+         },
+         [](const Viewer& v) { return v.camera_ + 1; },
+         [](Viewer& v, int i) {
+           if (i == 0) v.leaveFileCamera();
+           else v.camera_ = i - 1;
+         }},
+        // Image-based light of the glTF shading (docs/gltf-support.md).
+        {"environment", "E", "environment light (glTF shading): built-in, none, the --env file", K::Cycle, W::Combo,
+         "environment",
+         [](const Viewer& v) {
+           std::vector<std::string> names;
+           for (const std::string& e : v.environments_)
+             names.push_back(e.empty() ? "built-in" : e == "none" ? "none" : e.substr(e.find_last_of('/') + 1));
+           return names;
+         },
+         [](const Viewer& v) { return indexOf(v.environments_, v.rs_.environment); },
+         [](Viewer& v, int i) { v.rs_.environment = v.environments_[size_t(i)]; }},
         {"bloom", "P", "bloom on/off (post-processing: overlay)", K::Toggle, W::PostCheckbox, "bloom",
          [](const Viewer&) { return std::vector<std::string>{"off", "on"}; },
          [](const Viewer& v) { return v.rs_.post.bloom ? 1 : 0; },

@@ -144,6 +144,22 @@ class Viewer {
   Clock::time_point lastFrameEnd_{};
   int framesShown_ = 0;
 
+  // The glTF file's cameras (Scene::cameras, as the scene was posed when the
+  // viewer started) and the one in use, -1 for the orbit camera. A drag, the
+  // wheel or F leaves a file camera for the orbit camera at its pose (an
+  // orthographic one becomes a perspective orbit).
+  std::vector<Camera> fileCameras_;
+  std::vector<std::string> fileCameraNames_;
+  int camera_ = -1;
+  Camera currentCamera() const { return camera_ >= 0 ? fileCameras_[size_t(camera_)] : orbit_.camera(); }
+  void leaveFileCamera() {
+    if (camera_ >= 0) orbit_.reset(fileCameras_[size_t(camera_)]);
+    camera_ = -1;
+  }
+  // The glTF shading's environments E cycles: the built-in one (""), none,
+  // and the --env file when one was given.
+  std::vector<std::string> environments_;
+
   // Animation: a copy of the scene to pose (only when it has animations).
   Scene posed_;
   bool animated_ = false, playing_ = false, loop_ = true;

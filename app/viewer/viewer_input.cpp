@@ -81,6 +81,7 @@ void Viewer::runAction(const ViewerAction& a, int option) {
 }
 
 void Viewer::onDrag(int button, double dx, double dy) {
+  leaveFileCamera();
   if (button == 0) orbit_.orbit(dx, dy);
   else if (button == 1) orbit_.pan(dx, dy, rs_.height);
   else orbit_.zoomDrag(dy);
@@ -88,6 +89,7 @@ void Viewer::onDrag(int button, double dx, double dy) {
 }
 
 void Viewer::onScroll(double dy) {
+  leaveFileCamera();
   orbit_.zoomSteps(dy);
   dirty_ = true;
 }
@@ -121,7 +123,7 @@ void Viewer::applyScriptEvent(const ScriptEvent& e) {
     case K::Screenshot: saveScreenshot(e.path); break;
     case K::WindowScreenshot: saveWindowScreenshot(e.path); break;
     case K::PrintCamera:
-      std::printf("camera: %s\n", orbit_.camera().flags().c_str());
+      std::printf("camera: %s\n", currentCamera().flags().c_str());
       std::fflush(stdout);
       break;
     case K::PrintState: printState(); break;

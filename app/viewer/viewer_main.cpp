@@ -53,6 +53,12 @@ Viewer::Viewer(const ViewerOptions& o, const Scene& scene, const Camera& cam, co
   scene.worldBounds(boundsLo_, boundsHi_);
   prim_ = rs.polygon == PolygonMode::Line ? PrimMode::Wireframe : rs.polygon == PolygonMode::Point ? PrimMode::Points
                                                                                                   : PrimMode::Triangles;
+  for (size_t i = 0; i < scene.cameras.size(); ++i) {
+    fileCameras_.push_back(fileCamera(scene, std::to_string(i)));
+    fileCameraNames_.push_back(std::to_string(i) + (scene.cameras[i].name.empty() ? "" : " " + scene.cameras[i].name));
+  }
+  environments_ = {"", "none"};
+  if (!rs.environment.empty() && rs.environment != "none") environments_.push_back(rs.environment);
   if (scene.rig && !scene.rig->animations.empty()) {
     posed_ = scene;
     animated_ = true;
@@ -137,7 +143,7 @@ void Viewer::setRenderSize(int w, int h) {
 
 void Viewer::renderPipeline() {
   const auto t0 = Clock::now();
-  const Camera cam = orbit_.camera();
+  const Camera cam = currentCamera();
   renderer_.enqueue(cam, rs_, &timer_);
   stages_ = timer_.finish();
   if (!renderer_.lastFrameFit(&stats_)) {

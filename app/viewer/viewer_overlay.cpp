@@ -155,8 +155,8 @@ void Viewer::drawPostControls() {
   ImGui::TextUnformatted("post-processing");
   ImGui::SliderFloat("exposure (EV)", &p.exposure, -6.0f, 6.0f, "%.2f");
   int tm = int(p.tonemap);
-  const char* names[] = {"none", "reinhard", "aces"};
-  ImGui::Combo("tone map", &tm, names, 3);
+  const char* names[] = {"none", "reinhard", "aces", "neutral"};  // ToneMap's order; neutral: Khronos PBR Neutral
+  ImGui::Combo("tone map", &tm, names, 4);
   p.tonemap = ToneMap(tm);
   drawActionWidgets(Widget::PostCheckbox);  // bloom (P): the table's row, as its key does
   p.bloom = rs_.post.bloom;
@@ -229,8 +229,11 @@ std::string Viewer::stateLine() const {
                 rs_.width, rs_.height, toString(rs_.cull), toString(rs_.shading), toString(rs_.filter),
                 toString(rs_.raster), toString(rs_.polygon), toString(renderer_.resolveMethod(rs_)), toString(prim_),
                 rs_.post.bloom ? "on" : "off");
-  if (animated_) return std::string(b) + " time=" + std::to_string(animTime_) + (playing_ ? " playing" : " paused");
-  return b;
+  std::string s = b;
+  s += " camera=" + (camera_ < 0 ? std::string("orbit") : std::to_string(camera_));
+  s += " env=" + (rs_.environment.empty() ? std::string("built-in") : rs_.environment);
+  if (animated_) s += " time=" + std::to_string(animTime_) + (playing_ ? " playing" : " paused");
+  return s;
 }
 
 void Viewer::printState() {

@@ -328,6 +328,52 @@ if os.path.exists(wd("anim_paused.png")):
 else:
     check(False, "animated screenshot written")
 
+# ------------------------------------------------------------------ (g) file cameras, environments
+print("(g) V steps through the file's cameras (each image that of rast render --camera N), E the environments")
+import base64  # noqa: E402
+import json  # noqa: E402
+import struct  # noqa: E402
+quad = struct.pack("<12f", -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0) + struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+       "nodes": [{"mesh": 0}, {"camera": 0, "name": "near", "translation": [0.2, 0.1, 3.0]},
+                 {"camera": 1, "translation": [0.0, 0.0, 5.0]}],
+       "cameras": [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1, "zfar": 50.0}},
+                   {"type": "orthographic", "name": "flat",
+                    "orthographic": {"xmag": 1.5, "ymag": 1.5, "znear": 0.1, "zfar": 50.0}}],
+       "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.3, 0.2, 1], "metallicFactor": 0.6,
+                                                "roughnessFactor": 0.4}}],
+       "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+       "buffers": [{"byteLength": len(quad),
+                    "uri": "data:application/octet-stream;base64," + base64.b64encode(quad).decode()}],
+       "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                       {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+       "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                      "min": [-1, -1, 0], "max": [1, 1, 0]},
+                     {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]}
+cams = wd("cameras.gltf")
+with open(cams, "w") as f:
+    json.dump(doc, f)
+r = run_viewer("cams", "print-state\nkey V\nframe\nscreenshot cam0.png\nprint-state\nkey V\nframe\n"
+                       "screenshot cam1.png\nprint-state\nkey E\nframe\nscreenshot cam1_noenv.png\nprint-state\n"
+                       "drag left 10 0\nprint-state\nkey shift+V\nprint-state\n", extra=[cams])
+states = [l for l in r.stdout.splitlines() if l.startswith("state:")]
+check(r.returncode == 0 and len(states) == 6, f"cameras scene: viewer ran ({r.stderr.strip()[-200:]})")
+if len(states) == 6:
+    check("camera=orbit env=built-in" in states[0], f"starts on the orbit camera, built-in environment: {states[0][-40:]}")
+    check("camera=0" in states[1] and "camera=1" in states[2], "V steps to camera 0, then camera 1")
+    check("env=none" in states[3], f"E turns the environment off: {states[3][-40:]}")
+    check("camera=orbit" in states[4], "a drag leaves the file camera for the orbit camera")
+    check("camera=1" in states[5], "shift+V steps back (orbit -> the last file camera)")
+for shot, spec, extra in (("cam0.png", "0", []), ("cam1.png", "flat", []), ("cam1_noenv.png", "1", ["--env", "none"])):
+    if not os.path.exists(wd(shot)):
+        check(False, f"{shot} written")
+        continue
+    rast_render(wd("ref_" + shot), [cams, "--camera", spec, *extra])
+    check(read_png(wd(shot)) == read_png(wd("ref_" + shot)),
+          f"viewer through camera {spec}{' without environment' if extra else ''} == rast render --camera {spec}")
+if os.path.exists(wd("cam1.png")) and os.path.exists(wd("cam1_noenv.png")):
+    check(read_png(wd("cam1.png"))[2] != read_png(wd("cam1_noenv.png"))[2], "the environment changes the image")
+
 # ------------------------------------------------------------------ (e) soak
 print("(e) short soak: memory flat, display path named")
 soak = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "scripts", "measure", "viewer_soak.py")
