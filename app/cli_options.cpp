@@ -39,8 +39,10 @@ void SceneOptions::addTo(CLI::App& app) {
                                          "(`rast info SCENE` lists them)");
   app.add_option("--ortho", ortho, "orthographic projection with this half height (world units) instead of --fovy");
   app.add_option("--cull", cull, "back-face culling: none|back")->capture_default_str();
-  app.add_option("--shading", shading, "pbr|lambert|blinn-phong|normals|depth|uv|miplevel (default: pbr, the glTF "
-                                             "material model and the file's lights, for glTF files; lambert for builtin scenes)");
+  app.add_option("--shading", shading,
+                 "pbr|lambert|blinn-phong|normals|depth|uv|miplevel, or one input of the glTF shading: "
+                 "basecolor|metalrough|occlusion|emissive|shading-normals (default: pbr, the glTF "
+                 "material model and the file's lights, for glTF files; lambert for builtin scenes)");
   app.add_option("--filter", filter, "texture filter: auto|nearest|bilinear|trilinear (auto: the glTF samplers' filters under pbr, bilinear otherwise)")->capture_default_str();
   app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8 (default: none; msaa4 for the default scene's image)");
   app.add_option("--anisotropy", anisotropy,
@@ -177,7 +179,7 @@ void SceneOptions::applySceneLook(const Scene& scene, RenderSettings& rs, bool s
   // its lights; the built-in scenes keep their Lambert look.
   if (shading.empty() && !scene.sourceFiles.empty()) rs.shading = ShadingMode::Pbr;
   // --filter auto means the file's samplers to the glTF shading; the others filter bilinearly.
-  if (rs.filter == TexFilter::Auto && rs.shading != ShadingMode::Pbr) rs.filter = TexFilter::Bilinear;
+  if (rs.filter == TexFilter::Auto && !readsGltfMaterial(rs.shading)) rs.filter = TexFilter::Bilinear;
   if (background.empty() && look.background) rs.background = *look.background;
   if (lights.empty() && !look.lights.empty()) {
     rs.lights.clear();

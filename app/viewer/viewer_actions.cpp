@@ -32,7 +32,8 @@ std::vector<T> knownModes(T (*parse)(const std::string&), std::initializer_list<
 }
 // L: the lighting models first, then the debug views.
 std::vector<ShadingMode> shadingModes() {
-  return knownModes<ShadingMode>(parseShading, {"lambert", "blinn-phong", "normals", "depth", "uv", "miplevel", "pbr"});
+  return knownModes<ShadingMode>(parseShading, {"lambert", "blinn-phong", "normals", "depth", "uv", "miplevel", "pbr",
+                                                "basecolor", "metalrough", "occlusion", "emissive", "shading-normals"});
 }
 // T: bilinear <-> nearest first, then the rest.
 std::vector<TexFilter> filterModes() { return knownModes<TexFilter>(parseFilter, {"bilinear", "nearest", "trilinear", "auto"}); }

@@ -32,7 +32,12 @@ const std::pair<const char*, ShadingMode> kShading[] = {{"lambert", ShadingMode:
                                                         {"depth", ShadingMode::Depth},
                                                         {"uv", ShadingMode::TexCoord},
                                                         {"miplevel", ShadingMode::MipLevel},
-                                                        {"pbr", ShadingMode::Pbr}};
+                                                        {"pbr", ShadingMode::Pbr},
+                                                        {"basecolor", ShadingMode::BaseColor},
+                                                        {"metalrough", ShadingMode::MetalRough},
+                                                        {"occlusion", ShadingMode::Occlusion},
+                                                        {"emissive", ShadingMode::Emissive},
+                                                        {"shading-normals", ShadingMode::ShadingNormals}};
 const std::pair<const char*, RasterMethod> kRaster[] = {
     {"auto", RasterMethod::Auto},
     {"naive", RasterMethod::Naive},

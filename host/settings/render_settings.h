@@ -14,7 +14,13 @@ enum class CullMode { None, Back };
 // Pbr: the glTF 2.0 metallic-roughness model with the file's punctual lights
 // (pipeline/shade/pbr_shading.h); Lambert and BlinnPhong: base colour under a
 // headlight or --light, as glref and the seed rasterizers shade.
-enum class ShadingMode { Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel, Pbr };
+// Pbr: the glTF material model. BaseColor .. ShadingNormals: its debug views,
+// one input of the glTF shading each (base colour, metallic/roughness,
+// occlusion, emission, the normal it shades with) instead of the lit colour.
+enum class ShadingMode {
+  Lambert, BlinnPhong, Normals, Depth, TexCoord, MipLevel, Pbr,
+  BaseColor, MetalRough, Occlusion, Emissive, ShadingNormals
+};
 // Auto: the glTF samplers' own filters under the glTF shading (--shading pbr),
 // bilinear otherwise.
 enum class TexFilter { Nearest, Bilinear, Trilinear, Auto };
@@ -31,9 +37,18 @@ enum class PolygonMode { Fill, Line, Point };
 enum class Wireframe { Off, On, Hidden };
 
 // Diagnostic modes whose colours are data (normals, texture coordinates, mip
-// level), stored as raw bytes rather than sRGB-encoded light.
+// level, the glTF material's data channels), stored as raw bytes rather than
+// sRGB-encoded light.
 KOKKOS_INLINE_FUNCTION bool isRawShading(ShadingMode m) {
-  return m == ShadingMode::Normals || m == ShadingMode::TexCoord || m == ShadingMode::MipLevel;
+  return m == ShadingMode::Normals || m == ShadingMode::TexCoord || m == ShadingMode::MipLevel ||
+         m == ShadingMode::MetalRough || m == ShadingMode::Occlusion || m == ShadingMode::ShadingNormals;
+}
+
+// The modes that read the glTF material model (its textures, samplers,
+// double-sidedness): the glTF shading and its debug views.
+KOKKOS_INLINE_FUNCTION bool readsGltfMaterial(ShadingMode m) {
+  return m == ShadingMode::Pbr || m == ShadingMode::BaseColor || m == ShadingMode::MetalRough ||
+         m == ShadingMode::Occlusion || m == ShadingMode::Emissive || m == ShadingMode::ShadingNormals;
 }
 
 struct DirectionalLight {

@@ -114,7 +114,7 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // glTF's single-sided materials cull their back faces in the glTF model
   // (--shading pbr); the other shadings draw every face, as glref does.
   p.cull = rs.cull == CullMode::Back          ? CullFaces::All
-           : rs.shading == ShadingMode::Pbr ? CullFaces::SingleSided
+           : readsGltfMaterial(rs.shading) ? CullFaces::SingleSided
                                               : CullFaces::None;
   p.occluders = useOccluders(rs, p, in.stats);
   p.rowLanes = useRowLanes(rs, p, in.stats);

@@ -161,7 +161,7 @@ void Renderer::prepare(const RenderSettings& rs) {
     frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference || scene_.hasBlend, rs.post.ssao, rs.post.bloom);
   // Mipmaps are built the first time a frame needs them.
   const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel ||
-                        (rs.filter == TexFilter::Auto && rs.shading == ShadingMode::Pbr);
+                        (rs.filter == TexFilter::Auto && readsGltfMaterial(rs.shading));
   if (wantMips && scene_.hasTextures && !scene_.hasMipmaps) {
     // The pyramids (a third more than the textures) are built on the host and
     // uploaded: a host and a device copy of every level while they are made.

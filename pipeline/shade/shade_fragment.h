@@ -181,7 +181,7 @@ struct Shade {
           wantUV = true;
         }
         // The glTF model samples the material's other textures with the same coordinates.
-        if (p.mode == ShadingMode::Pbr && hasUV &&
+        if (readsGltfMaterial(p.mode) && hasUV &&
             (m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0))
           wantUV = true;
       }
@@ -236,7 +236,7 @@ struct Shade {
     if (posOutV) *posOutV = P;
     if (!kLit && p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
       return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, 1.0f};
-    if (!kLit && p.mode == ShadingMode::Pbr) return shadePbr(f, X, Y, ox, oy, b0, b1, b2, N, P);
+    if (!kLit && readsGltfMaterial(p.mode)) return shadePbr(f, X, Y, ox, oy, b0, b1, b2, N, P);
 
     float4 base4 = f.baseColor;
     float lod = 0.0f;
@@ -399,7 +399,8 @@ struct Shade {
     if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
     const float alpha = (m.flags & kMaterialOpaque) || f.material < 0 ? 1.0f : base.w;
     const float3 baseRgb{base.x, base.y, base.z};
-    if (m.flags & kMaterialUnlit) return float4{baseRgb.x, baseRgb.y, baseRgb.z, alpha};
+    if (p.mode == ShadingMode::BaseColor || ((m.flags & kMaterialUnlit) && p.mode == ShadingMode::Pbr))
+      return float4{baseRgb.x, baseRgb.y, baseRgb.z, alpha};
 
     pbr::Surface s{baseRgb, clamp01(m.metallic), clamp01(m.roughness)};
     if (textured && m.mrTexture >= 0) {
@@ -408,6 +409,8 @@ struct Shade {
       s.roughness = clamp01(s.roughness * mr.y);
       s.metallic = clamp01(s.metallic * mr.z);
     }
+    // Laid out as glTF's metallicRoughness texture: G roughness, B metal.
+    if (p.mode == ShadingMode::MetalRough) return float4{0.0f, s.roughness, s.metallic, alpha};
     const float3 V = normalize(f.eye - P);
     // Back faces (drawn when the material is double-sided) turn their
     // normal towards the viewer, as the specification says.
@@ -416,6 +419,16 @@ struct Shade {
     const float3 Ng = back ? N * -1.0f : N;
     if (textured && m.normalTexture >= 0) N = normalMapped(f, m, b0, b1, b2, N, back, on1 >> SlotNormal & 1u ? c1 : c0);
     else N = Ng;
+    if (p.mode == ShadingMode::ShadingNormals)  // encoded as the normals view encodes
+      return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, alpha};
+    if (p.mode == ShadingMode::Occlusion) {
+      const float ao = occlusionAt(m, textured, on1, c0, c1);
+      return float4{ao, ao, ao, alpha};
+    }
+    if (p.mode == ShadingMode::Emissive) {
+      const float3 e = emissionAt(m, textured, on1, c0, c1);
+      return float4{e.x, e.y, e.z, alpha};
+    }
 
     float3 color{0.0f, 0.0f, 0.0f};
     if (numPunctual > 0) {
@@ -438,23 +451,33 @@ struct Shade {
     }
     // Indirect light (the environment's, else an ambient term on the
     // diffuse part), darkened by the occlusion texture: only it.
-    float ao = 1.0f;
-    if (textured && m.occlusionTexture >= 0) {
-      const UvSet& c = on1 >> SlotOcclusion & 1u ? c1 : c0;
-      ao = 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, c.uv, unorm, c.dx, c.dy).x - 1.0f);
-    }
+    const float ao = occlusionAt(m, textured, on1, c0, c1);
     if (p.useEnv)
       color = color + iblShade(p.env, N, V, s.base, s.metallic, s.roughness, ao);
     else if (numPunctual == 0)
       color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
+    color = color + emissionAt(m, textured, on1, c0, c1);
+    return float4{color.x, color.y, color.z, alpha};
+  }
+
+  // The occlusion texture's factor on indirect light, with its strength.
+  KOKKOS_INLINE_FUNCTION float occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+                                           const UvSet& c1) const {
+    if (!textured || m.occlusionTexture < 0) return 1.0f;
+    const UvSet& c = on1 >> SlotOcclusion & 1u ? c1 : c0;
+    return 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, c.uv, unorm, c.dx, c.dy).x - 1.0f);
+  }
+
+  // Emitted light: the factor (times KHR_materials_emissive_strength) times the texture.
+  KOKKOS_INLINE_FUNCTION float3 emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+                                           const UvSet& c1) const {
     float3 emissive = m.emissive;
     if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
       const UvSet& c = on1 >> SlotEmissive & 1u ? c1 : c0;
       const float4 et = sampleMaterial(m.emissiveTexture, c.uv, lut, c.dx, c.dy);
       emissive = emissive * float3{et.x, et.y, et.z};
     }
-    color = color + emissive;
-    return float4{color.x, color.y, color.z, alpha};
+    return emissive;
   }
 
   // One directional light L of intensity I: Lambert's term, and Blinn-Phong's

@@ -144,6 +144,60 @@ t0, _ = render(bright, tag="t0")
 t1, _ = render(bright, "--tonemap", "pbr-neutral", tag="t1")
 check(len(t1) > 0 and t0 != t1, "--tonemap pbr-neutral compresses a bright image")
 
+# The debug views of the glTF shading (--shading basecolor|metalrough|
+# occlusion|emissive|shading-normals): each shows one input, at the centre of
+# a square whose material is known. Colours go through the sRGB curve, data
+# is stored raw, as the normals view stores it.
+def solid_png(rgba):
+    import zlib
+    def chunk(t, d):
+        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 6, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress((b"\0" + bytes(rgba) * 2) * 2)) + chunk(b"IEND", b""))
+
+
+def srgb(v):
+    return round(255 * (12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055))
+
+
+vdoc = {
+    "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.3, 0.2, 1.0], "metallicFactor": 0.6,
+                                            "roughnessFactor": 0.4},
+                   "emissiveFactor": [0.1, 0.2, 0.3], "occlusionTexture": {"index": 0, "strength": 0.5}}],
+    "textures": [{"source": 0}],
+    "images": [{"uri": "data:image/png;base64," + base64.b64encode(solid_png((128, 0, 0, 255))).decode()}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3,
+                                "material": 0}]}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
+                  {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                  {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+                  {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                    {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 12}],
+    "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+}
+views_path = os.path.join(args.workdir, "views.gltf")
+with open(views_path, "w") as f:
+    json.dump(vdoc, f)
+ao = 1.0 + 0.5 * (128 / 255 - 1.0)
+expect = {"basecolor": (srgb(0.8), srgb(0.3), srgb(0.2)), "metalrough": (0, round(0.4 * 255), round(0.6 * 255)),
+          "occlusion": (round(ao * 255),) * 3, "emissive": (srgb(0.1), srgb(0.2), srgb(0.3)),
+          "shading-normals": (128, 128, 255)}
+_, lit_out = render(views_path, tag="view_pbr")
+for view, want in expect.items():
+    _, out = render(views_path, "--shading", view, tag="view_" + view)
+    if not os.path.exists(out):
+        continue
+    w, h, _, px = rastimg.read_png(out)
+    k = 4 * ((h // 2) * w + w // 2)
+    got = tuple(px[k:k + 3])
+    check(all(abs(g - e) <= 1 for g, e in zip(got, want)), f"--shading {view}: centre {got}, expected {want} (+-1)")
+if os.path.exists(lit_out):
+    w, h, _, px = rastimg.read_png(lit_out)
+    k = 4 * ((h // 2) * w + w // 2)
+    check(tuple(px[k:k + 3]) not in expect.values(), "--shading pbr is none of its views")
+
 serial = args.rast_serial
 if serial:
     for path in (lit, near):
