@@ -166,44 +166,53 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
   // frame and the general kernel).
   rs.shading = ShadingMode::Lambert;
   rs.wantPrimId = true;
-  impl_->renderer->render(cam, rs);
-  exec.fence();  // the copy of firstBad (the frame itself is waited for by render)
+  // The barycentric pass is queued behind the frame before the renderer
+  // reads its counters (the fit of its buffers), so that one wait covers
+  // both; a frame that did not fit is drawn again with grown buffers, and the
+  // pass with it. The pass runs on the renderer's instance, behind its frame,
+  // and reads the scene's checked indices, never the caller's raw ones.
+  ::rast::Renderer& r = *im.renderer;
+  for (int attempt = 1;; ++attempt) {
+    r.enqueue(cam, rs);
+    const auto prim = r.frameBuffers().primId;
+    Kokkos::parallel_for(
+        "rast::api::barycentrics", Kokkos::RangePolicy<ExecutionSpace>(ExecutionSpace(), 0, int64_t(height) * width),
+        KOKKOS_LAMBDA(const int64_t p) {
+          // One thread a pixel along rows: neighbouring threads write neighbouring outputs.
+          const int64_t y = p / width, x = p - y * width;
+          const uint32_t id = prim(p);
+          if (id == 0) {
+            for (int k = 0; k < 4; ++k) out(y, x, k) = 0.0f;
+            ids(y, x) = -1;
+            return;
+          }
+          const int64_t t = int64_t(id) - 1;
+          double px[3], py[3], iw[3], zw[3];
+          for (int k = 0; k < 3; ++k) {
+            const uint32_t v = indices(3 * t + k);
+            iw[k] = 1.0 / double(pos(v, 3));
+            px[k] = double(pos(v, 0)) * iw[k];
+            py[k] = double(pos(v, 1)) * iw[k];
+            zw[k] = double(pos(v, 2)) * iw[k];
+          }
+          const PixelBarycentrics w = pixelBarycentrics(x, y, width, height, px, py, iw);
+          out(y, x, 0) = float(w.p[0]);
+          out(y, x, 1) = float(w.p[1]);
+          out(y, x, 2) = float(w.b[0] * zw[0] + w.b[1] * zw[1] + w.b[2] * zw[2]);
+          out(y, x, 3) = float(id);
+          ids(y, x) = int32_t(t);
+        });
+    if (r.lastFrameFit()) break;
+    // Counters are deterministic: the second attempt fits (as Renderer::render).
+    if (attempt >= 3) throw Error("internal: frame buffers did not converge");
+  }
+  exec.fence();  // the copy of firstBad, queued on exec
   if (im.firstBadHost() < none) {
     const int64_t j = im.firstBadHost();
     Kokkos::deep_copy(exec, im.firstBad, std::numeric_limits<int64_t>::max());
+    exec.fence();
     badInput(pos, tri, j);
   }
-  const auto prim = impl_->renderer->frameBuffers().primId;
-
-  // One thread a pixel along rows, so neighbouring threads write neighbouring
-  // outputs.
-  Kokkos::parallel_for(
-      "rast::api::barycentrics", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, int64_t(height) * width),
-      KOKKOS_LAMBDA(const int64_t p) {
-        const int64_t y = p / width, x = p - y * width;
-        const uint32_t id = prim(p);
-        if (id == 0) {
-          for (int k = 0; k < 4; ++k) out(y, x, k) = 0.0f;
-          ids(y, x) = -1;
-          return;
-        }
-        const int64_t t = int64_t(id) - 1;
-        double px[3], py[3], iw[3], zw[3];
-        for (int k = 0; k < 3; ++k) {
-          const int32_t v = tri(t, k);
-          iw[k] = 1.0 / double(pos(v, 3));
-          px[k] = double(pos(v, 0)) * iw[k];
-          py[k] = double(pos(v, 1)) * iw[k];
-          zw[k] = double(pos(v, 2)) * iw[k];
-        }
-        const PixelBarycentrics w = pixelBarycentrics(x, y, width, height, px, py, iw);
-        out(y, x, 0) = float(w.p[0]);
-        out(y, x, 1) = float(w.p[1]);
-        out(y, x, 2) = float(w.b[0] * zw[0] + w.b[1] * zw[1] + w.b[2] * zw[2]);
-        out(y, x, 3) = float(id);
-        ids(y, x) = int32_t(t);
-      });
-  exec.fence();
 }
 
 void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<const int32_t* [3]> tri, int width,

@@ -257,6 +257,25 @@ r4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=c
 f4 = rast.rasterize(pos[: 3 * (T // 2)], tri[: T // 2], (RH // 2, RW), context=rast.RasterizeContext())
 check(r4[1].shape == (1, RH // 2, RW) and np.array_equal(r4[1], f4[1]), "other counts and size: rebuilt, == a fresh one")
 
+# Triangles crossing the far plane (z/w from 0 to 3 over each) are clipped
+# into two each: more than a new renderer's buffers hold, so the first call
+# draws again with grown buffers, and its barycentric pass with it.
+NC = 2000
+cc = np.random.default_rng(7).uniform(-0.8, 0.8, size=(NC, 2)).astype(np.float32)
+cpos = np.zeros((3 * NC, 4), np.float32)
+cpos[0::3, :2], cpos[1::3, :2], cpos[2::3, :2] = cc, cc + [0.1, 0.0], cc + [0.0, 0.1]
+cpos[1::3, 2] = 3.0
+cpos[:, 3] = 1.0
+ctri = np.arange(3 * NC, dtype=np.int32).reshape(NC, 3)
+cctx = rast.RasterizeContext()
+first = rast.rasterize(cpos, ctri, (RH, RW), context=cctx)
+second = rast.rasterize(cpos, ctri, (RH, RW), context=cctx)
+cov = first[1][0] >= 0
+check(np.array_equal(first[1], second[1]) and np.array_equal(first[0], second[0]),
+      "a call whose clipped triangles outgrow the buffers == the next call (drawn again, with its barycentrics)")
+check(cov.sum() > 100 and float(first[0][0][..., 2][cov].max()) <= 1.0 + 1e-6,
+      "clipped at the far plane: every covered pixel has z/w <= 1")
+
 # ---- bad input: clear exceptions, never a crash
 raises(ValueError, ["pos", "shape"], rast.rasterize, pos[:, :3].copy(), tri, (RH, RW))
 raises(TypeError, ["pos", "float32", "float64"], rast.rasterize, pos.astype(np.float64), tri, (RH, RW))
