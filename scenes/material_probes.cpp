@@ -318,6 +318,26 @@ Scene lights() {
   return s;
 }
 
+// Four squares with one nearest-filtered texture and plain coordinates 0 .. 1:
+// rast keeps no KHR_texture_transform (it bakes it into the coordinates at
+// load), so the golden's file gets its transforms from the test's edit of the
+// export (tests/support/probe_files.py: offset, rotation, scale, all three).
+Scene transform() {
+  Scene s;
+  Texture t = asymmetric();
+  t.wrapS = t.wrapT = WrapMirror;
+  const int32_t tex = addTexture(s, t);
+  const float3 U{0.42f, 0, 0}, V{0, 0.42f, 0};
+  for (int k = 0; k < 4; ++k) {
+    Material m = matte({1, 1, 1, 1}, 1.0f);
+    m.texture = tex;
+    addQuad(s, {k % 2 ? 0.5f : -0.5f, k < 2 ? 0.5f : -0.5f, 0}, U, V, kUnitUv, addMaterial(s, m));
+  }
+  s.lights.push_back(light(LightType::Directional, {1, 1, 1}, 3.0f, {0, 0, 0}, {0, 0, -1}));
+  finish(s, {0, 0, 3.0}, {0, 0, 0}, 40);
+  return s;
+}
+
 struct ProbeRow {
   ProbeSceneInfo info;
   Scene (*build)();
@@ -330,6 +350,8 @@ const std::vector<ProbeRow>& probeTable() {
       {{"probe-emissive", "glTF probe: emissive factor, texture and KHR_materials_emissive_strength"}, emissive},
       {{"probe-mask", "glTF probe: alphaMode MASK cutoffs, OPAQUE alpha, single- and double-sided"}, mask},
       {{"probe-wrap", "glTF probe: REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT, nearest and linear"}, wrap},
+      {{"probe-transform", "glTF probe: textured squares for KHR_texture_transform (added to the export by the test)"},
+       transform},
       {{"probe-lights", "glTF probe: directional, point (with and without range) and spot lights"}, lights},
   };
   return rows;
