@@ -117,11 +117,12 @@ void addCamera(tinygltf::Model& m, const FileCamera& c) {
 }  // namespace
 
 void exportMaterialModel(const Scene& s, tinygltf::Model& m) {
-  for (size_t i = 0; i < s.textures.size() && i < m.samplers.size(); ++i) {
+  const bool asIs = !s.sourceFiles.empty() || s.look.gltfMaterials;
+  // The samplers' filters (the others' exports stay as they were: no filters, the reader's choice).
+  for (size_t i = 0; asIs && i < s.textures.size() && i < m.samplers.size(); ++i) {
     m.samplers[i].magFilter = s.textures[i].magFilter;
     m.samplers[i].minFilter = s.textures[i].minFilter;
   }
-  const bool asIs = !s.sourceFiles.empty() || s.look.gltfMaterials;
   if (asIs)
     for (size_t i = 0; i < s.materials.size() && i < m.materials.size(); ++i) m.materials[i] = material(s.materials[i], m);
   for (size_t i = 0; i < s.prims.size() && i < m.meshes.size(); ++i) {

@@ -16,11 +16,11 @@ namespace rast {
 // Completes `m`, which gltf_export.cpp filled with one image, sampler and
 // texture per Scene texture (in order), one material per Scene material, one
 // mesh of one primitive per Scene primitive and one node per draw (scene 0):
-//  - samplers get the textures' filters;
 //  - a scene that carries glTF materials (read from a file, or a built-in
 //    scene made for the glTF shading: SceneLook::gltfMaterials) gets its
-//    materials as they are; the others keep the neutral matte, double-sided
-//    materials gltf_export.cpp writes (rast draws them Lambert, unculled);
+//    materials as they are and its samplers' filters; the others keep the
+//    neutral matte, double-sided materials gltf_export.cpp writes (rast draws
+//    them Lambert, unculled), and samplers without filters, as before;
 //  - primitives get TANGENT (where every vertex has one) and TEXCOORD_1
 //    (where their material samples the second coordinates);
 //  - lights and cameras become nodes of scene 0.
