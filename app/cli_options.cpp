@@ -176,8 +176,8 @@ RenderSettings SceneOptions::settings() const {
 void SceneOptions::applySceneLook(const Scene& scene, RenderSettings& rs, bool still) const {
   const SceneLook& look = scene.look;
   // A glTF file is shown as its author made it: the glTF material model and
-  // its lights; the built-in scenes keep their Lambert look.
-  if (shading.empty() && !scene.sourceFiles.empty()) rs.shading = ShadingMode::Pbr;
+  // its lights; the built-in scenes keep their Lambert look (but the probes).
+  if (shading.empty() && (!scene.sourceFiles.empty() || look.gltfMaterials)) rs.shading = ShadingMode::Pbr;
   // --filter auto means the file's samplers to the glTF shading; the others filter bilinearly.
   if (rs.filter == TexFilter::Auto && !readsGltfMaterial(rs.shading)) rs.filter = TexFilter::Bilinear;
   if (background.empty() && look.background) rs.background = *look.background;

@@ -4,6 +4,7 @@
 #include "scenes/gltf_export.h"
 
 #include "host/image/safe_output.h"
+#include "scenes/gltf_export_material.h"
 
 #include <tiny_gltf.h>
 
@@ -139,6 +140,7 @@ void exportGlb(const Scene& s, const std::string& path) {
   }
   m.scenes.push_back(scene);
   m.defaultScene = 0;
+  exportMaterialModel(s, m);  // materials, samplers, tangents, lights, cameras (gltf_export_material.h)
   tinygltf::TinyGLTF writer;
   // Encoded in memory, then written atomically (host/image/safe_output.h).
   std::ostringstream glb;

@@ -146,6 +146,10 @@ struct SceneLook {
   std::optional<float4> background;  // linear
   std::vector<float4> lights;        // directional: xyz towards the light, w intensity
   int msaa = 1;                      // anti-aliasing for single images (`rast render`)
+  // A built-in scene made for the glTF material model (the feature probes,
+  // scenes/material_probes.h): shaded `--shading pbr` by default, as glTF
+  // files are, and exported with its materials as they are.
+  bool gltfMaterials = false;
 };
 
 struct Scene {

@@ -64,7 +64,7 @@ struct AlphaScene {
   DView<float> lut;
   DView<AlphaDraw> alphaDraws;
   uint32_t numDraws = 0;
-  int32_t hasUV = 0, hasColor = 0, perspective = 1, nearest = 0;
+  int32_t hasUV = 0, hasColor = 0, perspective = 1, nearest = 0;  // nearest: 0 bilinear, 1 nearest, 2 per sampler
 
   KOKKOS_INLINE_FUNCTION void prepare(uint32_t index, AlphaTri& a) const {
     a.index = index;
@@ -96,7 +96,9 @@ struct AlphaScene {
 
   // The alpha at a point whose exact edge values are E0, E1, E2: the shade
   // stage's perspective-correct barycentrics (drawnBarycentrics, one function
-  // for both), the texture sampled nearest or bilinear (level 0).
+  // for both), the texture sampled nearest or bilinear (level 0): as --filter
+  // says, or under --filter auto (nearest == 2) as the texture's glTF sampler
+  // magnifies (a MASK texture filtered nearest cuts along its texels).
   KOKKOS_INLINE_FUNCTION float alphaAt(const AlphaTri& a, int64_t E0, int64_t E1, int64_t E2) const {
     float b1, b2;
     drawnBarycentrics(E0, E1, E2, a.invArea, a.invW, a.corner, perspective != 0, b1, b2);
@@ -105,7 +107,8 @@ struct AlphaScene {
     if (a.textured) {
       const float u = a.uv[0].x * b0 + a.uv[1].x * b1 + a.uv[2].x * b2;
       const float v = a.uv[0].y * b0 + a.uv[1].y * b1 + a.uv[2].y * b2;
-      alpha *= (nearest ? sampleNearest(a.tex, texels, lut, u, v) : sampleBilinear(a.tex, texels, lut, u, v)).w;
+      const bool nn = nearest == 2 ? a.tex.magFilter == 9728 : nearest != 0;
+      alpha *= (nn ? sampleNearest(a.tex, texels, lut, u, v) : sampleBilinear(a.tex, texels, lut, u, v)).w;
     }
     if (hasColor) alpha *= a.colA[0] * b0 + a.colA[1] * b1 + a.colA[2] * b2;
     return cleanAlpha(alpha);

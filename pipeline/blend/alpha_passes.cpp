@@ -29,7 +29,8 @@ AlphaScene makeAlphaScene(const DeviceScene& s, const FrameBuffers& f, TexFilter
   a.hasUV = s.hasUV ? 1 : 0;
   a.hasColor = s.hasColor ? 1 : 0;
   a.perspective = perspective ? 1 : 0;
-  a.nearest = filter == TexFilter::Nearest ? 1 : 0;
+  // --filter auto: each texture's own magnification filter (the glTF sampler's).
+  a.nearest = filter == TexFilter::Nearest ? 1 : filter == TexFilter::Auto ? 2 : 0;
   return a;
 }
 
