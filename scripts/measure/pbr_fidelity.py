@@ -174,11 +174,16 @@ def main():
         jobs.append(job)
         rows.append({"model": name, "rast": rast_png, "ref": ref_png, "light_added": added})
     if not a.skip_ref and jobs:
-        batch = os.path.join(a.out, "jobs.jsonl")
-        with open(batch, "w") as f:
-            for j in jobs:
-                f.write(json.dumps(j) + "\n")
-        subprocess.run(["node", os.path.join(KREF, "khronos_ref.mjs"), "--batch", batch], check=False)
+        # One batch shares the reference's start-up; with an environment a
+        # batch drew only its first scene right (the later ones came out
+        # unlit or empty, 2026-11-26), so then each scene runs on its own.
+        groups = [[j] for j in jobs] if a.env else [jobs]
+        for k, group in enumerate(groups):
+            batch = os.path.join(a.out, f"jobs{k}.jsonl")
+            with open(batch, "w") as f:
+                for j in group:
+                    f.write(json.dumps(j) + "\n")
+            subprocess.run(["node", os.path.join(KREF, "khronos_ref.mjs"), "--batch", batch], check=False)
     print("| model | interior px | within 3/255 | within 8/255 | mean diff /255 | gamma 2.2: within 3 | within 8 | mean diff | coverage IoU |")
     print("|---|---|---|---|---|---|---|---|---|")
     for row in rows:
