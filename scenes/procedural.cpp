@@ -1,6 +1,7 @@
 #include "scenes/procedural.h"
 
 #include "host/gltf/gltf_loader.h"
+#include "scenes/skinned_scenes.h"
 #include "scenes/stress_scenes.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -151,6 +152,7 @@ const std::vector<BuiltinSceneInfo>& builtinScenes() {
   static const std::vector<BuiltinSceneInfo> all = [] {
     std::vector<BuiltinSceneInfo> v = {{"default", "checkered ground, vertex-coloured cube, textured sphere, pyramid"}};
     for (const StressSceneInfo& st : stressScenes()) v.push_back({st.name, st.description});
+    for (const MotionSceneInfo& ms : motionScenes()) v.push_back({ms.name, ms.description});
     return v;
   }();
   return all;
@@ -161,6 +163,7 @@ Scene builtinScene(const std::string& spec) {
   if (name == "default") return defaultScene();
   Scene s;
   if (makeStressScene(name, s)) return s;
+  if (makeMotionScene(name, s)) return s;
   std::string names;
   for (const auto& n : builtinSceneNames()) names += " " + n;
   throw Error("unknown builtin scene '" + name + "' (available:" + names + ")");
