@@ -3,6 +3,8 @@
 // order follows the draws, so primitive ids match rast's.
 #include "scenes/gltf_export.h"
 
+#include "scenes/gltf_export_motion.h"
+
 #include "host/image/safe_output.h"
 #include "scenes/gltf_export_material.h"
 
@@ -131,6 +133,7 @@ void exportGlb(const Scene& s, const std::string& path) {
     m.meshes.push_back(mesh);
   }
   tinygltf::Scene scene;
+  if (!writeMotion(s, m, scene))  // a scene that moves: its rig's nodes place the draws (gltf_export_motion.h)
   for (const Draw& d : s.draws) {
     tinygltf::Node n;
     n.mesh = int(d.prim);

@@ -2,6 +2,7 @@
 
 #include "host/gltf/gltf_loader.h"
 #include "scenes/material_probes.h"
+#include "scenes/skinned_scenes.h"
 #include "scenes/stress_scenes.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -153,6 +154,7 @@ const std::vector<BuiltinSceneInfo>& builtinScenes() {
     std::vector<BuiltinSceneInfo> v = {{"default", "checkered ground, vertex-coloured cube, textured sphere, pyramid"}};
     for (const StressSceneInfo& st : stressScenes()) v.push_back({st.name, st.description});
     for (const ProbeSceneInfo& p : probeScenes()) v.push_back({p.name, p.description});
+    for (const MotionSceneInfo& ms : motionScenes()) v.push_back({ms.name, ms.description});
     return v;
   }();
   return all;
@@ -164,6 +166,7 @@ Scene builtinScene(const std::string& spec) {
   Scene s;
   if (makeStressScene(name, s)) return s;
   if (makeProbeScene(name, s)) return s;
+  if (makeMotionScene(name, s)) return s;
   std::string names;
   for (const auto& n : builtinSceneNames()) names += " " + n;
   throw Error("unknown builtin scene '" + name + "' (available:" + names + ")");

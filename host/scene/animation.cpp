@@ -6,6 +6,8 @@
 // on every backend and with any number of threads.
 #include "host/scene/animation.h"
 
+#include "host/scene/host_workers.h"
+
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -13,6 +15,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <unordered_map>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace rast {
 
@@ -88,24 +95,50 @@ void normalise4(double* q) {
 
 namespace {
 
-// sampleView's arithmetic with the component count known when C != 0 (3 for
-// translations and scales, 4 for rotations), so that its loops unroll.
+// Where a time falls in a sampler's keys; a function of the key times alone,
+// so samplers sharing their times share it.
+struct KeyAt {
+  uint8_t where = 0;  // 0: no keys, 1: the first key's value, 2: the last's, 3: between keys k and k1
+  uint32_t k = 0, k1 = 0;
+  double dt = 0.0, u = 0.0;
+};
+
+KeyAt keyAt(const SamplerView& s, double t) {
+  KeyAt a;
+  const uint32_t n = s.n;
+  if (n == 0) return a;
+  if (!(t > s.first) || n == 1) {
+    a.where = 1;
+  } else if (t >= s.last) {
+    a.where = 2;
+  } else {
+    a.where = 3;
+    a.k = keyBefore(s, t);
+    a.k1 = std::min(a.k + 1, n - 1);
+    const double t0 = s.times[a.k], t1 = s.times[a.k1];
+    a.dt = t1 - t0;
+    a.u = a.dt > 0.0 ? std::clamp((t - t0) / a.dt, 0.0, 1.0) : 0.0;
+  }
+  return a;
+}
+
+// A sampler's value where keyAt put the time, with the component count known
+// when C != 0 (3 for translations and scales, 4 for rotations), so that its
+// loops unroll.
 template <uint32_t C>
-void sampleComps(const SamplerView& s, double t, bool rotation, double* out) {
+inline void sampleKeyed(const SamplerView& s, const KeyAt& at, bool rotation, double* out) {
   const uint32_t c = C ? C : s.comps, n = s.n;
   const bool cubic = s.interp == Interpolation::CubicSpline;
   const uint32_t stride = cubic ? 3 * c : c, valueAt = cubic ? c : 0;  // a key's value after its in-tangent
   auto value = [&](uint32_t k, uint32_t j) { return double(s.values[size_t(k) * stride + valueAt + j]); };
-  if (n == 0) return;
-  if (!(t > s.first) || n == 1) {
+  if (at.where == 0) return;
+  if (at.where == 1) {
     for (uint32_t j = 0; j < c; ++j) out[j] = value(0, j);
-  } else if (t >= s.last) {
+  } else if (at.where == 2) {
     for (uint32_t j = 0; j < c; ++j) out[j] = value(n - 1, j);
   } else {
-    const uint32_t k = keyBefore(s, t);
-    const uint32_t k1 = std::min(k + 1, n - 1);
-    const double t0 = s.times[k], t1 = s.times[k1], dt = t1 - t0;
-    const double u = dt > 0.0 ? std::clamp((t - t0) / dt, 0.0, 1.0) : 0.0;
+    const uint32_t k = at.k, k1 = at.k1;
+    const double dt = at.dt, u = at.u;
     if (s.interp == Interpolation::Step) {
       for (uint32_t j = 0; j < c; ++j) out[j] = value(k, j);
     } else if (!cubic) {
@@ -131,6 +164,11 @@ void sampleComps(const SamplerView& s, double t, bool rotation, double* out) {
     }
   }
   if (rotation && c == 4) normalise4(out);
+}
+
+template <uint32_t C>
+void sampleComps(const SamplerView& s, double t, bool rotation, double* out) {
+  sampleKeyed<C>(s, keyAt(s, t), rotation, out);
 }
 
 }  // namespace
@@ -162,39 +200,69 @@ namespace {
 
 // A node's local matrix from its T R S (built directly: columns of R scaled,
 // T in the last), or its own matrix.
-glm::dmat4 localMatrix(const RigNode& nd, const glm::dvec3& tr, const glm::dquat& rot, const glm::dvec3& sc) {
+inline glm::dmat4 localMatrix(const RigNode& nd, const glm::dvec3& tr, const glm::dquat& rot, const glm::dvec3& sc) {
   if (nd.hasMatrix) return nd.matrix;
   const glm::dmat3 r = glm::mat3_cast(glm::normalize(rot));
   return glm::dmat4(glm::dvec4(r[0] * sc.x, 0.0), glm::dvec4(r[1] * sc.y, 0.0), glm::dvec4(r[2] * sc.z, 0.0), glm::dvec4(tr, 1.0));
 }
 
-// parent * local, glm's operator* with two rows at a time (GCC/Clang vector
-// extensions, SSE2 on x86-64): the same products and sums in the same order,
-// so the same bits, in about half the instructions.
-glm::dmat4 compose(const glm::dmat4& a, const glm::dmat4& b) {
-  typedef double Pair __attribute__((vector_size(16)));
-  Pair lo[4], hi[4];
-  for (int c = 0; c < 4; ++c) {
-    std::memcpy(&lo[c], &a[c][0], sizeof(Pair));
-    std::memcpy(&hi[c], &a[c][2], sizeof(Pair));
-  }
+// parent * local, glm's operator* a column of four at a time (GCC/Clang
+// vector extensions: two SSE2 registers, or one AVX register in the AVX2
+// clone of composeMoved): the same products and sums in the same order, so
+// the same bits (no contraction: -ffp-contract=off), in a fraction of the
+// instructions.
+inline __attribute__((always_inline)) glm::dmat4 compose(const glm::dmat4& a, const glm::dmat4& b) {
+  typedef double Quad __attribute__((vector_size(32)));
+  Quad col[4];
+  for (int c = 0; c < 4; ++c) std::memcpy(&col[c], &a[c][0], sizeof(Quad));
   glm::dmat4 r;
   for (int c = 0; c < 4; ++c) {
-    const Pair rl = lo[0] * b[c][0] + lo[1] * b[c][1] + lo[2] * b[c][2] + lo[3] * b[c][3];
-    const Pair rh = hi[0] * b[c][0] + hi[1] * b[c][1] + hi[2] * b[c][2] + hi[3] * b[c][3];
-    std::memcpy(&r[c][0], &rl, sizeof(Pair));
-    std::memcpy(&r[c][2], &rh, sizeof(Pair));
+    const Quad rc = col[0] * b[c][0] + col[1] * b[c][1] + col[2] * b[c][2] + col[3] * b[c][3];
+    std::memcpy(&r[c][0], &rc, sizeof(Quad));
   }
   return r;
+}
+
+// The pass down the hierarchy over the planned nodes, also compiled for AVX2
+// on GCC/x86-64 (picked at load time; the same bits, see compose).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define RAST_HOST_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define RAST_HOST_CLONES
+#endif
+RAST_HOST_CLONES void composeMoved(const MovedNode* mv, size_t m, const glm::dmat4* restLocal, glm::dmat4* world) {
+  for (size_t j = 0; j < m; ++j) {
+    const MovedNode& e = mv[j];
+    if (e.parent < 0) continue;  // a driven root: its sampled local matrix is its world matrix
+    world[e.node] = compose(world[e.parent], e.driven ? world[e.node] : restLocal[e.node]);
+  }
+}
+
+uint64_t hashTimes(const float* t, uint32_t n) {
+  uint64_t h = 1469598103934665603ull ^ n;
+  for (uint32_t i = 0; i < n; ++i) {
+    uint32_t b;
+    std::memcpy(&b, &t[i], sizeof b);
+    h = (h ^ b) * 1099511628211ull;
+  }
+  return h;
 }
 
 void makePlan(const SceneRig& rig, AnimPlan& plan) {
   const size_t n = rig.nodes.size();
   std::vector<uint8_t> ordered(n, 0);
   for (int32_t i : rig.order) ordered[size_t(i)] = 1;
+  plan.restLocal.assign(n, glm::dmat4(1.0));
+  plan.restWorld.assign(n, glm::dmat4(1.0));
+  for (int32_t i : rig.order) {
+    const RigNode& nd = rig.nodes[size_t(i)];
+    plan.restLocal[size_t(i)] = localMatrix(nd, nd.translation, nd.rotation, nd.scale);
+    plan.restWorld[size_t(i)] = nd.parent >= 0 ? plan.restWorld[size_t(nd.parent)] * plan.restLocal[size_t(i)] : plan.restLocal[size_t(i)];
+  }
   std::vector<int32_t> slot(n, -1);  // a node's entry in the selection being resolved
   auto resolve = [&](size_t from, size_t to) {
-    std::vector<NodeDrivers> out;
+    PlanSelection sel;
+    std::vector<NodeDrivers>& out = sel.drivers;
     for (size_t a = from; a < to; ++a)
       for (const AnimChannel& ch : rig.animations[a].channels) {
         if (ch.node < 0 || size_t(ch.node) >= n || !ordered[size_t(ch.node)]) continue;  // outside the scene: never drawn
@@ -206,19 +274,94 @@ void makePlan(const SceneRig& rig, AnimPlan& plan) {
         out[size_t(k)].driven |= 1u << int(ch.path);
         out[size_t(k)].sampler[int(ch.path)] = viewOf(rig.animations[a].samplers[size_t(ch.sampler)]);
       }
-    for (const NodeDrivers& d : out) slot[size_t(d.node)] = -1;
-    return out;
+    std::vector<uint8_t> moved(n, 0);
+    for (const NodeDrivers& d : out) {
+      slot[size_t(d.node)] = -1;
+      moved[size_t(d.node)] = 1;
+    }
+    // Timelines: samplers whose key times are the same bits share one.
+    std::unordered_map<uint64_t, std::vector<uint32_t>> byHash;
+    for (NodeDrivers& d : out)
+      for (int p = 0; p < 4; ++p) {
+        if (!((d.driven >> p) & 1u)) continue;
+        const SamplerView& v = d.sampler[p];
+        std::vector<uint32_t>& same = byHash[hashTimes(v.times, v.n)];
+        uint32_t found = uint32_t(sel.timelines.size());
+        for (uint32_t t : same) {
+          const SamplerView& o = sel.timelines[t];
+          if (o.n == v.n && (o.times == v.times || std::memcmp(o.times, v.times, sizeof(float) * v.n) == 0)) found = t;
+        }
+        if (found == sel.timelines.size()) {
+          same.push_back(found);
+          sel.timelines.push_back(v);
+        }
+        d.timeline[p] = found;
+      }
+    for (int32_t i : rig.order) {
+      const int32_t p = rig.nodes[size_t(i)].parent;
+      const bool driven = moved[size_t(i)] != 0;
+      if (!driven && p >= 0 && moved[size_t(p)]) moved[size_t(i)] = 1;
+      if (moved[size_t(i)]) sel.moved.push_back(MovedNode{i, p, driven});
+      else sel.resting.push_back(i);
+    }
+    return sel;
   };
   plan.selections.push_back(resolve(0, rig.animations.size()));
   for (size_t a = 0; a < rig.animations.size(); ++a) plan.selections.push_back(resolve(a, a + 1));
-  for (int32_t i : rig.order) plan.orderParent.push_back(rig.nodes[size_t(i)].parent);
-  plan.restWorld.assign(n, glm::dmat4(1.0));
-  for (int32_t i : rig.order) {
-    const RigNode& nd = rig.nodes[size_t(i)];
-    const glm::dmat4 local = localMatrix(nd, nd.translation, nd.rotation, nd.scale);
-    plan.restWorld[size_t(i)] = nd.parent >= 0 ? plan.restWorld[size_t(nd.parent)] * local : local;
-  }
   plan.owner = &rig;
+}
+
+// One pose's sampling, shared by chunks of driven nodes (shareChunks).
+struct SampleJob {
+  const SceneRig* rig = nullptr;
+  const PlanSelection* sel = nullptr;
+  const KeyAt* keys = nullptr;  // per timeline
+  glm::dmat4* world = nullptr;
+  std::vector<std::vector<double>>* weights = nullptr;
+};
+constexpr uint32_t kNodesPerChunk = 256;
+
+// A driven node's channels into its local matrix, left in world[node] for
+// the pass down the hierarchy.
+inline void sampleNode(const SampleJob& j, const NodeDrivers& d) {
+  const RigNode& nd = j.rig->nodes[size_t(d.node)];
+  auto drives = [&](AnimPath p) { return (d.driven >> int(p)) & 1u; };
+  auto at = [&](AnimPath p) -> const KeyAt& { return j.keys[d.timeline[int(p)]]; };
+  glm::dvec3 tr = nd.translation, sc = nd.scale;
+  glm::dquat rot = nd.rotation;
+  double v[4] = {0, 0, 0, 0};
+  auto three = [&](AnimPath p) {
+    const SamplerView& s = d.sampler[int(p)];
+    if (s.comps == 3) sampleKeyed<3>(s, at(p), false, v);
+    else sampleKeyed<0>(s, at(p), false, v);
+  };
+  if (drives(AnimPath::Translation)) {
+    three(AnimPath::Translation);
+    tr = {v[0], v[1], v[2]};
+  }
+  if (drives(AnimPath::Rotation)) {
+    const SamplerView& s = d.sampler[int(AnimPath::Rotation)];
+    if (s.comps == 4) sampleKeyed<4>(s, at(AnimPath::Rotation), true, v);
+    else sampleKeyed<0>(s, at(AnimPath::Rotation), true, v);
+    rot = glm::dquat(v[3], v[0], v[1], v[2]);
+  }
+  if (drives(AnimPath::Scale)) {
+    three(AnimPath::Scale);
+    sc = {v[0], v[1], v[2]};
+  }
+  if (j.weights && drives(AnimPath::Weights)) {
+    const SamplerView& s = d.sampler[int(AnimPath::Weights)];
+    std::vector<double>& w = (*j.weights)[size_t(d.node)];
+    w.assign(s.comps, 0.0);
+    sampleKeyed<0>(s, at(AnimPath::Weights), false, w.data());
+  }
+  j.world[size_t(d.node)] = localMatrix(nd, tr, rot, sc);
+}
+
+void sampleChunk(void* ctx, uint32_t chunk) {
+  const SampleJob& j = *static_cast<const SampleJob*>(ctx);
+  const size_t m = j.sel->drivers.size(), from = size_t(chunk) * kNodesPerChunk, to = std::min(m, from + kNodesPerChunk);
+  for (size_t k = from; k < to; ++k) sampleNode(j, j.sel->drivers[k]);
 }
 
 }  // namespace
@@ -227,7 +370,7 @@ AnimPlan& AnimPlan::operator=(AnimPlan&&) noexcept {
   owner = nullptr;
   selections.clear();
   restWorld.clear();
-  orderParent.clear();
+  restLocal.clear();
   return *this;
 }
 
@@ -251,60 +394,34 @@ void evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<glm::d
     weights->resize(n);
     for (size_t i = 0; i < n; ++i) (*weights)[i] = rig.nodes[i].weights;
   }
-  static const std::vector<NodeDrivers> kNone;
-  const size_t sel = r.animation == kAllAnimations ? 0 : size_t(r.animation) + 1;
-  const std::vector<NodeDrivers>& drv = r.animation >= kAllAnimations && sel < plan->selections.size() ? plan->selections[sel] : kNone;
-  // Sampling: each driven node's channels by one thread, its local matrix
-  // left in world[node] for the pass below.
-  const long m = long(drv.size());
-  // Threads only for thousands of nodes: a parallel region costs a few
-  // microseconds, and on a busy machine a thread may wait for its core.
-#pragma omp parallel for schedule(static) if (m >= 2048)
-  for (long k = 0; k < m; ++k) {
-    const NodeDrivers& d = drv[size_t(k)];
-    const RigNode& nd = rig.nodes[size_t(d.node)];
-    auto drives = [&](AnimPath p) { return (d.driven >> int(p)) & 1u; };
-    auto samplerOf = [&](AnimPath p) -> const SamplerView& { return d.sampler[int(p)]; };
-    glm::dvec3 tr = nd.translation, sc = nd.scale;
-    glm::dquat rot = nd.rotation;
-    double v[4] = {0, 0, 0, 0};
-    if (drives(AnimPath::Translation)) {
-      sampleView(samplerOf(AnimPath::Translation), r.time, false, v);
-      tr = {v[0], v[1], v[2]};
-    }
-    if (drives(AnimPath::Rotation)) {
-      sampleView(samplerOf(AnimPath::Rotation), r.time, true, v);
-      rot = glm::dquat(v[3], v[0], v[1], v[2]);
-    }
-    if (drives(AnimPath::Scale)) {
-      sampleView(samplerOf(AnimPath::Scale), r.time, false, v);
-      sc = {v[0], v[1], v[2]};
-    }
-    if (weights && drives(AnimPath::Weights)) {
-      const SamplerView& s = samplerOf(AnimPath::Weights);
-      std::vector<double>& w = (*weights)[size_t(d.node)];
-      w.assign(s.comps, 0.0);
-      sampleView(s, r.time, false, w.data());
-    }
-    world[size_t(d.node)] = localMatrix(nd, tr, rot, sc);
+  const size_t which = r.animation == kAllAnimations ? 0 : size_t(r.animation) + 1;
+  if (r.animation < kAllAnimations || which >= plan->selections.size()) {  // the rest pose
+    for (int32_t i : rig.order) world[size_t(i)] = plan->restWorld[size_t(i)];
+    return;
   }
+  const PlanSelection& sel = plan->selections[which];
+  // Each timeline's key interval once; then the driven nodes sampled, each
+  // by one thread (threads only for thousands of nodes: waking one costs
+  // microseconds).
+  thread_local std::vector<KeyAt> keys;
+  keys.resize(sel.timelines.size());
+  for (size_t t = 0; t < sel.timelines.size(); ++t) keys[t] = keyAt(sel.timelines[t], r.time);
+  SampleJob job;
+  job.rig = &rig;
+  job.sel = &sel;
+  job.keys = keys.data();
+  job.world = world.data();
+  job.weights = weights;
+  const size_t m = sel.drivers.size();
+  int threads = 1;
+#ifdef _OPENMP
+  if (m >= 2048) threads = omp_get_max_threads();
+#endif
+  shareChunks(uint32_t((m + kNodesPerChunk - 1) / kNodesPerChunk), threads, sampleChunk, &job);
   // Down the hierarchy: driven nodes and those under them composed, the
   // others at rest.
-  std::vector<uint8_t> moved(n, 0);
-  for (const NodeDrivers& d : drv) moved[size_t(d.node)] = 1;
-  for (size_t j = 0; j < rig.order.size(); ++j) {
-    const size_t i = size_t(rig.order[j]);
-    const int32_t p = plan->orderParent[j];
-    if (moved[i]) {
-      if (p >= 0) world[i] = compose(world[size_t(p)], world[i]);
-    } else if (p >= 0 && moved[size_t(p)]) {
-      moved[i] = 1;
-      const RigNode& nd = rig.nodes[i];
-      world[i] = compose(world[size_t(p)], localMatrix(nd, nd.translation, nd.rotation, nd.scale));
-    } else {
-      world[i] = plan->restWorld[i];
-    }
-  }
+  for (int32_t i : sel.resting) world[size_t(i)] = plan->restWorld[size_t(i)];
+  composeMoved(sel.moved.data(), sel.moved.size(), plan->restLocal.data(), world.data());
 }
 
 std::vector<glm::dmat4> evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<std::vector<double>>* weights) {

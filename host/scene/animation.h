@@ -94,16 +94,38 @@ SamplerView viewOf(const AnimSampler& s);
 // Which channel sets each driven node's translation, rotation, scale and
 // morph weights (indexed by AnimPath): the last one in file order where
 // several do, as playing the channels one after another would leave it.
+// timeline[p]: the selection's timeline (PlanSelection::timelines) that
+// sampler[p]'s key times are.
 struct NodeDrivers {
   int32_t node = 0;
   uint32_t driven = 0;  // bit p: path p is driven by sampler[p], else the node's rest value
   SamplerView sampler[4];
+  uint32_t timeline[4] = {0, 0, 0, 0};
+};
+
+// One entry of the pass down the hierarchy: a node that is driven or under a
+// driven one, in SceneRig::order.
+struct MovedNode {
+  int32_t node = 0, parent = -1;
+  bool driven = false;  // its local matrix is sampled; else its rest local matrix
+};
+
+// What one selection (every animation, or one) drives, resolved once.
+struct PlanSelection {
+  std::vector<NodeDrivers> drivers;
+  // The distinct arrays of key times (equal by content) of the drivers'
+  // samplers: exporters give the channels of an animation one input
+  // accessor, so a pose searches each timeline's key interval once, not each
+  // channel's.
+  std::vector<SamplerView> timelines;
+  std::vector<MovedNode> moved;    // composed per pose, parents first
+  std::vector<int32_t> resting;    // nodes of the scene that keep their rest world matrix
 };
 
 // The rig's channels resolved once (planAnimations), so that evaluating a
 // pose walks flat arrays: per selection, the nodes it drives, each sampled by
-// one thread; and every node's world matrix at rest, which nodes outside the
-// driven subtrees keep.
+// one thread, and the nodes to compose; and every node's world and local
+// matrices at rest, which nodes outside the driven subtrees keep.
 // A copied or moved plan comes out empty: its views would point into the
 // keys of the rig it was made for, so only that rig uses it (a copy of a rig
 // plans again on every evaluation until planAnimations is called on it).
@@ -114,9 +136,9 @@ struct AnimPlan {
   AnimPlan& operator=(const AnimPlan&) { return *this = AnimPlan(); }
   AnimPlan& operator=(AnimPlan&&) noexcept;
   const struct SceneRig* owner = nullptr;  // the rig planned: evaluating another plans afresh
-  std::vector<std::vector<NodeDrivers>> selections;  // [0]: every animation at once; [1 + a]: animation a alone
-  std::vector<glm::dmat4> restWorld;                 // per node (kNoAnimation's world matrices)
-  std::vector<int32_t> orderParent;                  // per SceneRig::order entry, its node's parent
+  std::vector<PlanSelection> selections;   // [0]: every animation at once; [1 + a]: animation a alone
+  std::vector<glm::dmat4> restWorld;       // per node (kNoAnimation's world matrices)
+  std::vector<glm::dmat4> restLocal;       // per node, its local matrix at rest
 };
 
 struct SceneRig {
@@ -155,9 +177,11 @@ void sampleView(const SamplerView& s, double t, bool rotation, double* out);
 
 // Every node's world matrix at the request's time (rest transforms where no
 // channel drives a node), and every node's morph weights (out). The driven
-// nodes are sampled in parallel (OpenMP), each by one thread, then the world
+// nodes are sampled in parallel, each by one thread, then the world
 // matrices are composed down the hierarchy in one pass, only under driven
-// nodes: the same bits whatever the thread count. The second form reuses the
+// nodes: the same bits whatever the thread count. Threads: OpenMP's count
+// (OMP_NUM_THREADS), through shareChunks (host_workers.h), from 2,048
+// driven nodes. The second form reuses the
 // caller's buffer (no allocation once it has the size).
 std::vector<glm::dmat4> evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<std::vector<double>>* weights);
 void evaluateNodes(const SceneRig& rig, const PoseRequest& r, std::vector<glm::dmat4>& world,

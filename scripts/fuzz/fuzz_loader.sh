@@ -37,7 +37,7 @@ srcs=(tests/fuzz/fuzz_loader.cpp
       host/gltf/file_gate.cpp host/gltf/schema_check.cpp host/gltf/image_decode.cpp host/gltf/accessors.cpp
       host/gltf/model_walk.cpp host/gltf/materials.cpp host/gltf/uri_resolver.cpp
       host/gltf/animation_load.cpp host/gltf/instancing.cpp host/gltf/compression.cpp
-      host/scene/scene.cpp host/scene/animation.cpp host/scene/memory_budget.cpp host/scene/tangents.cpp
+      host/scene/scene.cpp host/scene/animation.cpp host/scene/host_workers.cpp host/scene/memory_budget.cpp host/scene/tangents.cpp
       host/third_party_impl.cpp)
 # Rebuild only when a source is newer than the binary.
 need=1

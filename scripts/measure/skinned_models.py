@@ -2,30 +2,36 @@
 """Skinned, animated test models for the accuracy comparison with the Khronos Sample Renderer.
 
 Why: issue #40 asks for silhouettes agreeing with the Sample Renderer on skinned/animated models
-built here, with joint hierarchies, scaled joints, non-normalised weights fixed as the spec says
-and cubic-spline tangents; `rast export` writes meshes only, so this writes them (standard
-library only; docs/animation.md has the figures, tests/cli/cli_skinned_models.py renders them).
+built with rast's exporter, with joint hierarchies, scaled joints, non-normalised weights fixed as
+the spec says and cubic-spline tangents. The models are rast's built-in scenes builtin:skin-arm
+and builtin:skin-tail (scenes/skinned_scenes.cpp), written by `rast export`; this script runs
+the export, and describes the same models in Python (tube, joints, keys, weights) so that
+tests/cli/cli_skinned_models.py can skin them by hand, independently of rast. docs/animation.md
+has the figures.
 
-    skinned_models.py OUT_DIR [--raw-weights]
+    skinned_models.py OUT_DIR --rast build/openmp/rast     # skin_arm.glb, skin_tail.glb (rast export)
+    skinned_models.py OUT_DIR --raw-weights                # skin_arm_raw.gltf, skin_tail_raw.gltf
 
 Both models are a tube of radius 0.2 along x in [0, 3] (8 sides, a ring every 0.25), skinned to a
 chain of three joints: the root (translation (-1.5, -0.5, 0), uniform scale 1.25), a joint at
 x = 1 and one at x = 2, with inverse bind matrices relative to the root, so the rest pose is
 the root's transform of the tube. The mesh's own node has a translation the spec says to ignore.
 Weights come from a falloff around each joint; they do not sum to 1 (they sum to 2) and are
-scaled to 1 before writing, as glTF 2.0 (3.7.3.3) requires; --raw-weights writes them as they
-are (float), or summing to 0.5 (normalised integers, which cannot exceed 1), for the loader's
-own fix.
+scaled to 1 before writing, as glTF 2.0 (3.7.3.3) requires (rast's exporter writes every
+skin's weights so). --raw-weights writes the weights as they are, with this script's own
+writer (rast's exporter cannot: it fixes them), for the loader's own fix: float weights
+summing to 2, or normalised unsigned shorts summing to 0.5 (they cannot exceed 1).
 
- - skin_arm.gltf: the middle joint rotates about z, LINEAR (0, 90, 30, -45 degrees at t = 0..3);
+ - skin_arm: the middle joint rotates about z, LINEAR (0, 90, 30, -45 degrees at t = 0..3);
    the tip joint scales non-uniformly, LINEAR ((1.4, 0.7, 1) at t = 2, 1 at 0, 1 and 3).
-   Joints unsigned short, weights float.
- - skin_tail.gltf: CUBICSPLINE rotation of the middle joint about z and translation of the tip
+ - skin_tail: CUBICSPLINE rotation of the middle joint about z and translation of the tip
    joint, with non-zero tangents, keys at t = 0, 0.8 and 2 (intervals of different lengths, so
-   that tangents scaled by the wrong interval show); joints unsigned byte, weights normalised
-   unsigned short.
+   that tangents scaled by the wrong interval show).
+The exported files hold unsigned short joints and float weights; the raw files unsigned short
+joints with float weights (arm) and unsigned byte joints with normalised unsigned short weights
+(tail).
 """
-import argparse, base64, json, math, os, struct
+import argparse, base64, json, math, os, struct, subprocess
 
 RADIUS, SIDES, RINGS = 0.2, 8, 13  # rings at x = 0, 0.25, ..., 3
 ROOT_T, ROOT_S = (-1.5, -0.5, 0.0), 1.25
@@ -141,7 +147,7 @@ def model(kind, raw=False):
         samplers.append({'input': d.floats(times, 'SCALAR', 1), 'output': d.floats(values, 'VEC4' if width == 4 else 'VEC3', width),
                          'interpolation': interp})
         channels.append({'sampler': len(samplers) - 1, 'target': {'node': node, 'path': path}})
-    return {'asset': {'version': '2.0', 'generator': 'rast scripts/measure/skinned_models.py'},
+    return {'asset': {'version': '2.0', 'generator': 'rast scripts/measure/skinned_models.py --raw-weights'},
             'scene': 0, 'scenes': [{'nodes': [0, 1]}], 'nodes': nodes,
             'meshes': [{'primitives': [{'attributes': attrs, 'indices': indices,
                                         'material': 0}]}],
@@ -154,14 +160,24 @@ def model(kind, raw=False):
                          'uri': 'data:application/octet-stream;base64,' + base64.b64encode(d.blob).decode()}]}
 
 
-def write(out_dir, raw=False):
-    """Writes skin_arm.gltf and skin_tail.gltf (with _raw before .gltf for --raw-weights); their paths."""
+def write(out_dir, raw=False, rast=None, env=None):
+    """Writes the two models; their paths (arm, tail). Exported by rast (skin_arm.glb,
+    skin_tail.glb: `rast export builtin:skin-arm`), or with raw weights by this script
+    (skin_arm_raw.gltf, skin_tail_raw.gltf)."""
     os.makedirs(out_dir, exist_ok=True)
     paths = []
     for kind in ('arm', 'tail'):
-        p = os.path.join(out_dir, f'skin_{kind}{"_raw" if raw else ""}.gltf')
-        with open(p, 'w') as f:
-            json.dump(model(kind, raw), f)
+        if raw:
+            p = os.path.join(out_dir, f'skin_{kind}_raw.gltf')
+            with open(p, 'w') as f:
+                json.dump(model(kind, raw), f)
+        else:
+            if not rast:
+                raise SystemExit('skinned_models: --rast is needed to export the models')
+            p = os.path.join(out_dir, f'skin_{kind}.glb')
+            r = subprocess.run([rast, 'export', f'builtin:skin-{kind}', '-o', p], capture_output=True, text=True, env=env)
+            if r.returncode != 0:
+                raise SystemExit(f'skinned_models: rast export builtin:skin-{kind} failed: {r.stderr.strip()}')
         paths.append(p)
     return paths
 
@@ -169,9 +185,10 @@ def write(out_dir, raw=False):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('out_dir')
-    ap.add_argument('--raw-weights', action='store_true', help='weights summing to 2, as they are')
+    ap.add_argument('--raw-weights', action='store_true', help='weights summing to 2, as they are (this script writes them)')
+    ap.add_argument('--rast', help='the rast executable that exports the models')
     a = ap.parse_args()
-    for p in write(a.out_dir, a.raw_weights):
+    for p in write(a.out_dir, a.raw_weights, a.rast):
         print(p)
 
 

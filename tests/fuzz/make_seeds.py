@@ -2,8 +2,11 @@
 """Writes the loader fuzzer's seed corpus (tests/fuzz/corpus): small glTF and
 GLB files that reach the loader's main paths (embedded and external buffers,
 GLB chunks, indices of each type, strips and fans, sparse accessors, strides,
-node hierarchies, textures by URI and by bufferView). Run it again after
-changing it; the files are kept in the repository."""
+node hierarchies, textures by URI and by bufferView), and what rast's own
+exporter writes (with --rast PATH). Run it again after changing it; the
+files are kept in the repository.
+
+    make_seeds.py [--rast build/openmp/rast]"""
 import base64
 import json
 import os
@@ -280,4 +283,18 @@ save("meshopt_bad_stream.gltf", meshopt_doc(MO_VERTS[:8] + "ff" * 40 + MO_VERTS[
 save("meshopt_bad_count.gltf", meshopt_doc(MO_VERTS, MO_INDICES, count=1 << 28))
 save("draco_grid.gltf", draco_doc(DRACO))
 save("draco_bad_cut.gltf", draco_doc(DRACO[:len(DRACO) // 2]))
+
+# 14. what rast's exporter writes for a scene that moves (#40, scenes/gltf_export_motion.cpp):
+#     the built-in skinned models and the animated seed of section 11 through `rast export`
+#     (GLB: nodes, a skin with JOINTS/WEIGHTS as the exporter writes them, morph targets,
+#     LINEAR and CUBICSPLINE samplers). They need a rast executable: make_seeds.py --rast PATH;
+#     without it the files already in the corpus are kept.
+rast = sys.argv[sys.argv.index("--rast") + 1] if "--rast" in sys.argv else None
+if rast:
+    import subprocess
+    for scene, name in (("builtin:skin-arm", "export_skin_arm.glb"), ("builtin:skin-tail", "export_skin_tail.glb"),
+                        (os.path.join(out, "anim_skin_morph.gltf"), "export_anim_skin_morph.glb")):
+        subprocess.run([rast, "export", scene, "-o", os.path.join(out, name)], check=True, stdout=subprocess.DEVNULL)
+else:
+    print("make_seeds: no --rast given: the exported seeds (export_*.glb) are kept as they are")
 print(f"wrote {len(os.listdir(out))} seeds to {out}")
