@@ -249,6 +249,8 @@ class RigBuilder {
     dup(s_.positions);
     dup(s_.normals);
     dup(s_.uvs);
+    dup(s_.uvs1);
+    dup(s_.tangents);
     dup(s_.colors);
     copyRange(s_.indices, 3 * size_t(p.firstTri), 3 * size_t(p.triCount));
     const uint32_t fl = uint32_t(s_.lineIndices.size() / 2), fp = uint32_t(s_.pointIndices.size());
@@ -318,14 +320,25 @@ class RigBuilder {
   void targets(const tinygltf::Primitive& gp, size_t srcCount, const std::vector<uint32_t>* corner, uint32_t nv, DeformedDraw& dd) {
     dd.targets = uint32_t(gp.targets.size());
     if (!dd.targets) return;
-    bool anyNormal = false;
-    for (const auto& t : gp.targets) anyNormal |= t.count("NORMAL") > 0;
+    bool anyNormal = false, anyTangent = false;
+    for (const auto& t : gp.targets) anyNormal |= t.count("NORMAL") > 0, anyTangent |= t.count("TANGENT") > 0;
     dd.targetPositions.assign(size_t(nv) * dd.targets, float3{0, 0, 0});
     if (anyNormal && !dd.flatNormals) dd.targetNormals.assign(size_t(nv) * dd.targets, float3{0, 0, 0});
+    // Tangents move only where the primitive keeps some (a normal-mapped
+    // material's; Scene::tangents), from the bind pose's.
+    const MeshPrim& p = s_.prims[s_.draws[dd.draw].prim];
+    if (anyTangent && s_.tangents.size() >= size_t(p.firstVertex) + nv) {
+      ctx_.ledger.charge("morphed tangents of draw " + std::to_string(dd.draw), mulSat(nv, 16 + 12 * uint64_t(dd.targets)));
+      dd.baseTangents.assign(s_.tangents.begin() + p.firstVertex, s_.tangents.begin() + p.firstVertex + nv);
+      dd.targetTangents.assign(size_t(nv) * dd.targets, float3{0, 0, 0});
+    }
     for (uint32_t t = 0; t < dd.targets; ++t) {
       for (const auto& [name, a] : gp.targets[t]) {
-        std::vector<float3>* out = name == "POSITION" ? &dd.targetPositions : name == "NORMAL" ? &dd.targetNormals : nullptr;
-        if (!out || out->empty()) continue;  // TANGENT deltas: not applied (docs/animation.md)
+        std::vector<float3>* out = name == "POSITION" ? &dd.targetPositions
+                                   : name == "NORMAL" ? &dd.targetNormals
+                                   : name == "TANGENT" ? &dd.targetTangents
+                                                       : nullptr;
+        if (!out || out->empty()) continue;
         const std::string what = "morph target " + name;
         const std::vector<float> f = perVertex(acc_.floats(a, 3, what.c_str()), 3, srcCount, corner, nv, what.c_str());
         if (!finiteAll(f)) throw Error(what + " has non-finite values");

@@ -432,13 +432,19 @@ std::vector<glm::dmat4> evaluateNodes(const SceneRig& rig, const PoseRequest& r,
 
 namespace {
 
-// A deformed draw's vertices with its morph targets applied (object space).
-void morph(const DeformedDraw& dd, const std::vector<double>& w, float3* pos, float3* nrm, uint32_t nv) {
+// A deformed draw's vertices with its morph targets applied (object space);
+// its tangents too when it has tangent deltas and `tan` is given (the shader
+// makes them orthogonal to the normal and normalises them).
+void morph(const DeformedDraw& dd, const std::vector<double>& w, float3* pos, float3* nrm, uint32_t nv,
+           float4* tan = nullptr) {
   std::vector<double> tw(dd.targets, 0.0);
   for (uint32_t t = 0; t < dd.targets && t < w.size(); ++t) tw[t] = w[t];
+  const bool tangents = tan && !dd.targetTangents.empty();
   for (uint32_t v = 0; v < nv; ++v) {
     glm::dvec3 q(dd.basePositions[v].x, dd.basePositions[v].y, dd.basePositions[v].z);
     glm::dvec3 m(dd.baseNormals[v].x, dd.baseNormals[v].y, dd.baseNormals[v].z);
+    glm::dvec3 g(0.0);
+    if (tangents) g = glm::dvec3(dd.baseTangents[v].x, dd.baseTangents[v].y, dd.baseTangents[v].z);
     for (uint32_t t = 0; t < dd.targets; ++t) {
       if (tw[t] == 0.0) continue;
       const float3 dp = dd.targetPositions[size_t(t) * nv + v];
@@ -447,9 +453,14 @@ void morph(const DeformedDraw& dd, const std::vector<double>& w, float3* pos, fl
         const float3 dn = dd.targetNormals[size_t(t) * nv + v];
         m += tw[t] * glm::dvec3(dn.x, dn.y, dn.z);
       }
+      if (tangents) {
+        const float3 dt = dd.targetTangents[size_t(t) * nv + v];
+        g += tw[t] * glm::dvec3(dt.x, dt.y, dt.z);
+      }
     }
     pos[v] = {float(q.x), float(q.y), float(q.z)};
     nrm[v] = {float(m.x), float(m.y), float(m.z)};
+    if (tangents) tan[v] = {float(g.x), float(g.y), float(g.z), dd.baseTangents[v].w};
   }
 }
 
@@ -499,7 +510,8 @@ void poseScene(Scene& s, const PoseRequest& r, bool skinOnHost) {
     const uint32_t nv = p.vertexCount;
     float3* pos = s.positions.data() + p.firstVertex;
     float3* nrm = s.normals.data() + p.firstVertex;
-    morph(dd, weights[size_t(rig.drawNode[dd.draw])], pos, nrm, nv);  // morph targets first, then the skin
+    float4* tan = s.tangents.size() >= size_t(p.firstVertex) + nv ? s.tangents.data() + p.firstVertex : nullptr;
+    morph(dd, weights[size_t(rig.drawNode[dd.draw])], pos, nrm, nv, tan);  // morph targets first, then the skin
     if (dd.skin >= 0) {
       // The skinned mesh's own node transform is ignored (glTF 2.0, 3.7.3.3):
       // the joints place it in the world.

@@ -73,9 +73,13 @@ struct DeformedDraw {
   uint32_t sets = 0;
   std::vector<uint16_t> joints;
   std::vector<float> weights;
-  // Morph targets: targets x vertexCount deltas (normals empty when no target has NORMAL).
+  // Morph targets: targets x vertexCount deltas (normals empty when no target
+  // has NORMAL; tangents empty when none has TANGENT or the primitive keeps no
+  // tangents, Scene::tangents). Tangent deltas move xyz; w, the handedness,
+  // stays the base's (glTF 2.0, 3.7.2.2).
   uint32_t targets = 0;
-  std::vector<float3> targetPositions, targetNormals;
+  std::vector<float3> targetPositions, targetNormals, targetTangents;
+  std::vector<float4> baseTangents;  // the bind pose's, when targetTangents is not empty
 };
 
 // A sampler as evaluation reads it: its keys where the rig holds them, and

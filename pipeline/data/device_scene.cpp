@@ -94,6 +94,8 @@ void DeviceScene::updatePose(const Scene& s) {
   if (morphs) {
     copyInto(positions, pos.empty() ? s.positions : pos);
     copyInto(normals, nrm.empty() ? s.normals : nrm);
+    // Morphed tangents (TANGENT deltas, host/scene/animation.h).
+    if (hasTangents && s.tangents.size() == tangents.extent(0)) copyInto(tangents, s.tangents);
   }
 }
 
