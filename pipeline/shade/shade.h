@@ -43,9 +43,11 @@ struct ShadeParams {
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
 
-// Whether a frame of p with `samples` coverage samples a pixel is shaded by
-// the lit kernel (Lambert or Blinn-Phong straight to 8-bit colour, one sample)
-// or by the general one, which launches heavyweight (device.h).
-bool shadeTakesLitKernel(const ShadeParams& p, int samples);
+// Whether a frame of p with `samples` coverage samples a pixel is shaded by a
+// kernel launched lightweight: the lit kernel (Lambert or Blinn-Phong straight
+// to 8-bit colour, one sample), or the glTF shading's (rast::shade::pbr, one
+// sample) where shade_stage.cpp's kPbrKernelLightweight says so; the general
+// kernel and, by default, the glTF one launch heavyweight (device.h).
+bool shadeLaunchesLightweight(const ShadeParams& p, int samples);
 
 }  // namespace rast

@@ -59,6 +59,23 @@ struct TriFrag {
   int32_t evY = 0;
 };
 
+// The glTF shading's per-triangle part: the draw's material (the
+// specification's default without one), whether a texture is sampled, which
+// slots take the second coordinates, and the face normal (unnormalised) that
+// tells back faces.
+struct PbrTri {
+  MaterialGPU m;
+  int32_t textured = 0;
+  uint32_t on1 = 0;
+  float3 face{0.0f, 0.0f, 0.0f};
+};
+
+// What the glTF shading of a frame uses, fixed when its kernel is compiled
+// (pipeline/shade/pbr_fragment.h): texture coordinates (some material samples a
+// texture), the environment's light, the file's punctual lights. kPbrAny:
+// each read at run time (the general kernel).
+enum PbrFeature : int { kPbrTextured = 1, kPbrEnv = 2, kPbrPunctual = 4, kPbrAny = -1 };
+
 struct Shade {
   // scene
   DView<DrawGPU> draws;
@@ -236,7 +253,7 @@ struct Shade {
     if (posOutV) *posOutV = P;
     if (!kLit && p.mode == ShadingMode::Normals)  // encoded directly (no sRGB curve), as normal maps are
       return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, 1.0f};
-    if (!kLit && readsGltfMaterial(p.mode)) return shadePbr(f, X, Y, ox, oy, b0, b1, b2, N, P);
+    if (!kLit && readsGltfMaterial(p.mode)) return shadePbr(f, pbrTri(f), X, Y, ox, oy, b0, b1, b2, N, P);
 
     float4 base4 = f.baseColor;
     float lod = 0.0f;
@@ -280,19 +297,14 @@ struct Shade {
     return float4{rgb.x, rgb.y, rgb.z, base4.w};
   }
 
-  // A texture of the material at uv, filtered as the frame asks; `decode`
-  // is the sRGB table for colour textures, the unorm one for data.
+  // The glTF shading's members (pbr_fragment.h, included at the end of this
+  // file): a material's textures, its coordinates, normal maps, and the
+  // fragment's colour, with the scene's features fixed at compile time
+  // (kFeat, PbrFeature) or read at run time (kPbrAny).
+  KOKKOS_INLINE_FUNCTION float4 sampleTexture(const TextureGPU& tex, float2 uv, const DView<float>& decode, float2 dx,
+                                              float2 dy) const;
   KOKKOS_INLINE_FUNCTION float4 sampleMaterial(int32_t t, float2 uv, const DView<float>& decode, float2 dx,
-                                               float2 dy) const {
-    const TextureGPU tex = textures(t);
-    if (p.filter == TexFilter::Auto)
-      return sampleSampler(tex, texels, decode, uv.x, uv.y, dx, dy, p.anisotropy);
-    if (p.filter == TexFilter::Trilinear)
-      return sampleTrilinear(tex, texels, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
-    if (p.filter == TexFilter::Nearest) return sampleNearest(tex, texels, decode, uv.x, uv.y);
-    return sampleBilinear(tex, texels, decode, uv.x, uv.y);
-  }
-
+                                               float2 dy) const;
   // A set of texture coordinates at a fragment: the point, its derivatives
   // one pixel right and up (when the filter takes them) and the triangle's
   // three corners.
@@ -300,186 +312,20 @@ struct Shade {
     float2 uv{0.0f, 0.0f}, dx{0.0f, 0.0f}, dy{0.0f, 0.0f};
     float2 t0{0.0f, 0.0f}, t1{0.0f, 0.0f}, t2{0.0f, 0.0f};
   };
-  KOKKOS_INLINE_FUNCTION static float2 lerp3(float2 a, float2 b, float2 c, float b0, float b1, float b2) {
-    return {a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
-  }
   KOKKOS_INLINE_FUNCTION static UvSet uvSet(float2 t0, float2 t1, float2 t2, const float b[3], const float bx[3],
-                                            const float by[3], bool derivatives) {
-    UvSet c;
-    c.t0 = t0;
-    c.t1 = t1;
-    c.t2 = t2;
-    c.uv = lerp3(t0, t1, t2, b[0], b[1], b[2]);
-    if (derivatives) {
-      const float2 ux = lerp3(t0, t1, t2, bx[0], bx[1], bx[2]), uy = lerp3(t0, t1, t2, by[0], by[1], by[2]);
-      c.dx = float2{ux.x - c.uv.x, ux.y - c.uv.y};
-      c.dy = float2{uy.x - c.uv.x, uy.y - c.uv.y};
-    }
-    return c;
-  }
-
-  // The normal-mapped normal at a fragment whose interpolated normal is N
-  // (turned towards the viewer when `back`). The tangent frame: the
-  // primitive's tangents (the file's TANGENT or generated at load,
-  // Scene::tangents) interpolated and moved to the world by the draw's
-  // matrix, else the triangle's dP/du (skinned draws, whose tangents the
-  // vertex stage does not pose, and primitives without tangents); made
-  // orthogonal to N, the bitangent w N x T (w: the tangents' handedness,
-  // turned by a mirroring matrix so that it stays the file's bitangent).
-  // A back face turns all three, as the Khronos renderer does.
+                                            const float by[3], bool derivatives);
   KOKKOS_INLINE_FUNCTION float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
-                                             float3 N, bool back, const UvSet& c) const {
-    float3 T{0.0f, 0.0f, 0.0f};
-    float w = 1.0f;
-    if (hasTangent) {
-      const DrawGPU& dr = draws(f.draw);
-      const float4 t0 = tangents(f.s0), t1 = tangents(f.s1), t2 = tangents(f.s2);
-      const float tw = t0.w * b0 + t1.w * b1 + t2.w * b2;
-      if (dr.skinJoint < 0 && tw != 0.0f) {
-        const float3 to{t0.x * b0 + t1.x * b1 + t2.x * b2, t0.y * b0 + t1.y * b1 + t2.y * b2,
-                        t0.z * b0 + t1.z * b1 + t2.z * b2};
-        const float* M = dr.modelF.m;
-        T = float3{M[0] * to.x + M[4] * to.y + M[8] * to.z, M[1] * to.x + M[5] * to.y + M[9] * to.z,
-                   M[2] * to.x + M[6] * to.y + M[10] * to.z};
-        T = T - N * dot(N, T);
-        w = (tw < 0.0f) != (f.mirrored != 0) ? -1.0f : 1.0f;
-      }
-    }
-    if (!(dot(T, T) > 1e-12f)) {
-      // dP/du of the triangle (position and uv are both linear over it).
-      const float3 e1 = f.pos[1] - f.pos[0], e2 = f.pos[2] - f.pos[0];
-      const float du1 = c.t1.x - c.t0.x, dv1 = c.t1.y - c.t0.y;
-      const float du2 = c.t2.x - c.t0.x, dv2 = c.t2.y - c.t0.y;
-      const float det = du1 * dv2 - du2 * dv1;
-      T = det != 0.0f ? (e1 * dv2 - e2 * dv1) * (1.0f / det) : e1;
-      T = T - N * dot(N, T);
-      w = 1.0f;
-    }
-    const float s = back ? -1.0f : 1.0f;
-    const float3 Ng = N * s;
-    if (!(dot(T, T) > 0.0f)) return Ng;
-    T = normalize(T);
-    const float3 B = cross(N, T) * (w * s);
-    const float4 nt = sampleMaterial(m.normalTexture, c.uv, unorm, c.dx, c.dy);
-    return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T * s, B, Ng);
-  }
-
-  // The glTF 2.0 metallic-roughness model (pbr_shading.h) at a fragment with
-  // barycentrics b and interpolated normal N, position P: the material's
-  // factors times its textures, the file's punctual lights (else --light,
-  // or a headlight when there is no environment either), emission, and the
-  // environment's image-based light (ibl_shading.h), or without one an
-  // ambient term; both scaled by the occlusion texture. Linear light.
-  KOKKOS_INLINE_FUNCTION float4 shadePbr(const TriFrag& f, int32_t X, int32_t Y, int32_t ox, int32_t oy, float b0,
-                                         float b1, float b2, float3 N, const float3& P) const {
-    MaterialGPU m{};
-    m.baseColor = float4{1.0f, 1.0f, 1.0f, 1.0f};
-    m.texture = m.mrTexture = m.normalTexture = m.occlusionTexture = m.emissiveTexture = -1;
-    m.metallic = m.roughness = m.normalScale = m.occlusionStrength = 1.0f;  // the spec's default material
-    if (f.material >= 0) m = materials(f.material);
-    const bool textured = hasUV && (m.texture >= 0 || m.mrTexture >= 0 || m.normalTexture >= 0 ||
-                                    m.occlusionTexture >= 0 || m.emissiveTexture >= 0);
-    // The material's coordinates: the first set, and the second where some
-    // of its textures sample another set or transform (uv1Slots).
-    const uint32_t on1 = hasUV1 ? uint32_t(m.flags) >> kMaterialUv1Shift : 0u;
-    UvSet c0, c1;
-    if (textured) {
-      const float b[3] = {b0, b1, b2};
-      float bx[3] = {0.0f, 0.0f, 0.0f}, by[3] = {0.0f, 0.0f, 0.0f};
-      const bool derivatives = p.filter == TexFilter::Trilinear || p.filter == TexFilter::Auto;
-      if (derivatives) {  // analytic derivatives, as the other modes take them
-        bary(f, f.e, X, Y, ox + kSubOne, oy, bx[0], bx[1], bx[2]);
-        bary(f, f.e, X, Y, ox, oy + kSubOne, by[0], by[1], by[2]);
-      }
-      c0 = uvSet(f.uv[0], f.uv[1], f.uv[2], b, bx, by, derivatives);
-      if (on1) c1 = uvSet(uvs1(f.s0), uvs1(f.s1), uvs1(f.s2), b, bx, by, derivatives);
-    }
-    float4 base = m.baseColor;
-    if (textured && m.texture >= 0) base = base * sampleMaterial(m.texture, c0.uv, lut, c0.dx, c0.dy);
-    if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
-    const float alpha = (m.flags & kMaterialOpaque) || f.material < 0 ? 1.0f : base.w;
-    const float3 baseRgb{base.x, base.y, base.z};
-    if (p.mode == ShadingMode::BaseColor || ((m.flags & kMaterialUnlit) && p.mode == ShadingMode::Pbr))
-      return float4{baseRgb.x, baseRgb.y, baseRgb.z, alpha};
-
-    pbr::Surface s{baseRgb, clamp01(m.metallic), clamp01(m.roughness)};
-    if (textured && m.mrTexture >= 0) {
-      const UvSet& c = on1 >> SlotMetalRough & 1u ? c1 : c0;
-      const float4 mr = sampleMaterial(m.mrTexture, c.uv, unorm, c.dx, c.dy);
-      s.roughness = clamp01(s.roughness * mr.y);
-      s.metallic = clamp01(s.metallic * mr.z);
-    }
-    // Laid out as glTF's metallicRoughness texture: G roughness, B metal.
-    if (p.mode == ShadingMode::MetalRough) return float4{0.0f, s.roughness, s.metallic, alpha};
-    const float3 V = normalize(f.eye - P);
-    // Back faces (drawn when the material is double-sided) turn their
-    // normal towards the viewer, as the specification says.
-    const float3 face = cross(f.pos[1] - f.pos[0], f.pos[2] - f.pos[0]);
-    const bool back = (dot(face, V) < 0.0f) != (f.mirrored != 0);
-    const float3 Ng = back ? N * -1.0f : N;
-    if (textured && m.normalTexture >= 0) N = normalMapped(f, m, b0, b1, b2, N, back, on1 >> SlotNormal & 1u ? c1 : c0);
-    else N = Ng;
-    if (p.mode == ShadingMode::ShadingNormals)  // encoded as the normals view encodes
-      return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, alpha};
-    if (p.mode == ShadingMode::Occlusion) {
-      const float ao = occlusionAt(m, textured, on1, c0, c1);
-      return float4{ao, ao, ao, alpha};
-    }
-    if (p.mode == ShadingMode::Emissive) {
-      const float3 e = emissionAt(m, textured, on1, c0, c1);
-      return float4{e.x, e.y, e.z, alpha};
-    }
-
-    float3 color{0.0f, 0.0f, 0.0f};
-    if (numPunctual > 0) {
-      for (int k = 0; k < numPunctual; ++k) {
-        float3 L;
-        const float3 E = pbr::incidentLight(punctual(k), P, L);
-        color = color + pbr::shadeLight(s, N, V, L, E);
-      }
-    } else if (p.headlight) {
-      // Scaled by pi: a white Lambertian surface facing it reflects what
-      // the Lambert shading's headlight gives it. With an environment, that
-      // lights a file without lights of its own instead.
-      const float I = (1.0f - p.ambient) * pbr::kPi;
-      if (!p.useEnv) color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
-    } else {
-      for (int k = 0; k < int(lights.extent(0)); ++k) {
-        const float I = lights(k).intensity * pbr::kPi;
-        color = color + pbr::shadeLight(s, N, V, lights(k).direction, float3{I, I, I});
-      }
-    }
-    // Indirect light (the environment's, else an ambient term on the
-    // diffuse part), darkened by the occlusion texture: only it.
-    const float ao = occlusionAt(m, textured, on1, c0, c1);
-    if (p.useEnv)
-      color = color + iblShade(p.env, N, V, s.base, s.metallic, s.roughness, ao);
-    else if (numPunctual == 0)
-      color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
-    color = color + emissionAt(m, textured, on1, c0, c1);
-    return float4{color.x, color.y, color.z, alpha};
-  }
-
-  // The occlusion texture's factor on indirect light, with its strength.
+                                             float3 N, bool back, const UvSet& c) const;
+  KOKKOS_INLINE_FUNCTION PbrTri pbrTri(const TriFrag& f) const;
+  template <int kFeat = kPbrAny>
+  KOKKOS_INLINE_FUNCTION float4 shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
+                                         int32_t oy, float b0, float b1, float b2, float3 N, const float3& P) const;
+  // The occlusion texture's factor on indirect light, and the emitted light,
+  // of a fragment of material m (the glTF shading and its debug views).
   KOKKOS_INLINE_FUNCTION float occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
-                                           const UvSet& c1) const {
-    if (!textured || m.occlusionTexture < 0) return 1.0f;
-    const UvSet& c = on1 >> SlotOcclusion & 1u ? c1 : c0;
-    return 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, c.uv, unorm, c.dx, c.dy).x - 1.0f);
-  }
-
-  // Emitted light: the factor (times KHR_materials_emissive_strength) times the texture.
+                                           const UvSet& c1) const;
   KOKKOS_INLINE_FUNCTION float3 emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
-                                           const UvSet& c1) const {
-    float3 emissive = m.emissive;
-    if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
-      const UvSet& c = on1 >> SlotEmissive & 1u ? c1 : c0;
-      const float4 et = sampleMaterial(m.emissiveTexture, c.uv, lut, c.dx, c.dy);
-      emissive = emissive * float3{et.x, et.y, et.z};
-    }
-    return emissive;
-  }
-
+                                           const UvSet& c1) const;
   // One directional light L of intensity I: Lambert's term, and Blinn-Phong's
   // highlight in that mode.
   KOKKOS_INLINE_FUNCTION void addLight(const float3& N, const float3& V, const float3& L, const float I,
@@ -712,3 +558,5 @@ struct ShadeInterleaved {
 shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
 
 }  // namespace rast
+
+#include "pipeline/shade/pbr_fragment.h"

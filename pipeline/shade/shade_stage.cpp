@@ -3,7 +3,7 @@
 // shade_fragment.h; makeShade fills its parameters and allocates its outputs
 // for this kernel and for the CPU's span and fused tile shading
 // (pipeline/cpu/), which the frame plan chooses instead on host backends.
-#include "pipeline/shade/shade_fragment.h"
+#include "pipeline/shade/pbr_fragment.h"
 #include "pipeline/rules/visbuffer_blocks.h"
 #include "pipeline/data/test_hooks.h"
 
@@ -34,8 +34,56 @@ struct DepthRange {
 // with one sample a pixel and runs of one pixel.
 bool interleavedLayout(int run, int samples) { return kShadeInterleave > 1 && run == 1 && samples == 1; }
 
+// Whether the glTF shading's kernel launches lightweight on a GPU, as the lit
+// kernel does (its functor in the kernel's parameters, its frames replayed from
+// a recording: backends/frame_graphs.h). Only where nvcc inlines all of it:
+// a call left out of line copies the 2.2 KB functor to every thread's stack
+// (docs/cuda.md). Not yet checked on the H100 (`cuobjdump -res-usage`: the
+// STACK of the rast::shade::pbr kernels), so it launches heavyweight there, as
+// the general kernel does. Host backends ignore the hint.
+constexpr bool kPbrKernelLightweight = false;
+
+// The glTF shading's kernel (pbr_fragment.h) for the scene's features,
+// compiled in the layout of the backend (rows on CPUs, columns on GPUs).
+template <int kFeat>
+void launchPbrWith(const Shade& k, const Range& items) {
+  using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;
+  const Bounded policy(items.begin(), items.end());
+  const shading::ShadePbr<kFeat, kOnDevice> kernel{k};
+  if constexpr (kPbrKernelLightweight)
+    Kokkos::parallel_for("rast::shade::pbr", lightweight(policy), kernel);
+  else
+    Kokkos::parallel_for("rast::shade::pbr", heavyweight(policy), kernel);
+}
+
+void launchPbr(const Shade& k, const Range& items) {
+  using shading::kPbrEnv;
+  using shading::kPbrPunctual;
+  using shading::kPbrTextured;
+  switch ((k.hasUV ? kPbrTextured : 0) | (k.p.useEnv ? kPbrEnv : 0) | (k.numPunctual > 0 ? kPbrPunctual : 0)) {
+    case 0: return launchPbrWith<0>(k, items);
+    case kPbrTextured: return launchPbrWith<kPbrTextured>(k, items);
+    case kPbrEnv: return launchPbrWith<kPbrEnv>(k, items);
+    case kPbrTextured | kPbrEnv: return launchPbrWith<kPbrTextured | kPbrEnv>(k, items);
+    case kPbrPunctual: return launchPbrWith<kPbrPunctual>(k, items);
+    case kPbrTextured | kPbrPunctual: return launchPbrWith<kPbrTextured | kPbrPunctual>(k, items);
+    case kPbrEnv | kPbrPunctual: return launchPbrWith<kPbrEnv | kPbrPunctual>(k, items);
+    default: return launchPbrWith<kPbrTextured | kPbrEnv | kPbrPunctual>(k, items);
+  }
+}
+
+// Whether the glTF shading's kernel shades a frame: the glTF shading at one
+// sample a pixel, in the backend's own layout (a run of one pixel on GPUs).
+bool takesPbrKernel(const ShadeParams& p, int samples, bool interleaved) {
+  return p.mode == ShadingMode::Pbr && samples == 1 && interleaved == kOnDevice && !testHooks().generalShade;
+}
+
 void launchShade(Shade k, const Range& items) {
   k.clearVis = 1;
+  if (takesPbrKernel(k.p, k.samples.count, k.interleaved != 0)) {
+    launchPbr(k, items);
+    return;
+  }
   // On a GPU the fragment shader keeps one triangle's data (TriFrag) live:
   // unbounded, ptxas gives it 166 registers a thread, too few warps to hide the
   // loads of a latency-bound kernel. kShadeLaunchBounds caps that (host
@@ -132,11 +180,13 @@ shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParam
   return k;
 }
 
-bool shadeTakesLitKernel(const ShadeParams& p, int samples) {
+bool shadeLaunchesLightweight(const ShadeParams& p, int samples) {
   shading::Shade k{};
   k.p = p;
   k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
-  return interleavedLayout(k.run, samples) && k.litOnly() && !testHooks().generalShade;
+  const bool interleaved = interleavedLayout(k.run, samples);
+  return (interleaved && k.litOnly() && !testHooks().generalShade) ||
+         (kPbrKernelLightweight && takesPbrKernel(p, samples, interleaved));
 }
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {

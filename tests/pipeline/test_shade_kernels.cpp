@@ -3,7 +3,10 @@
 // a kernel compiled without the other modes' code (core/shade_fragment.h,
 // Shade::litOnly); TestHooks::generalShade makes them take the general one.
 // On a GPU both are what every frame runs; on a host backend the per-pixel
-// kernel is the one a shade run of 1 asks for.
+// kernel is the one a shade run of 1 asks for. The glTF shading's own kernel
+// (rast::shade::pbr, pipeline/shade/pbr_fragment.h: one instance per set of
+// scene features) against the general kernel likewise, on every backend in
+// its own layout.
 #include <catch2/catch.hpp>
 
 #include "host/scene/camera.h"
@@ -22,10 +25,12 @@ struct GeneralShade {
   ~GeneralShade() { testHooks().generalShade = false; }
 };
 
-void compareForms(const std::string& name, const Scene& s, const Camera& cam, RenderSettings rs) {
+// pixelRuns: runs of one pixel (the lit kernel's layout, which host backends
+// take only when asked); the glTF kernel keeps each backend's own layout.
+void compareForms(const std::string& name, const Scene& s, const Camera& cam, RenderSettings rs, bool pixelRuns = true) {
   rs.width = 203;  // not a multiple of the kernel's 32-pixel tiles
   rs.height = 61;
-  testHooks().shadeRun = 1;  // the per-pixel kernel on host backends too (GPUs always take it)
+  testHooks().shadeRun = pixelRuns ? 1 : 0;  // the per-pixel kernel on host backends too (GPUs always take it)
   rs.wantNormals = rs.wantDepth = rs.wantPrimId = true;
   INFO(name);
   Renderer lit(s), general(s);
@@ -49,6 +54,7 @@ void compareForms(const std::string& name, const Scene& s, const Camera& cam, Re
   size_t colourDiffs = 0;
   for (size_t i = 0; i < c.size(); ++i) colourDiffs += c[i] != cg[i];
   CHECK(colourDiffs == 0);  // the same arithmetic in both forms: the same bytes
+  testHooks().shadeRun = 0;
 }
 
 }  // namespace
@@ -81,4 +87,44 @@ TEST_CASE("the lit shade kernel gives the general kernel's images", "[shade]") {
   const Scene truck = loadGltf(dir + "/models/milktruck.glb");
   compareForms("milktruck from its cab", truck, milktruckCabCamera(), rs);
   compareForms("milktruck", truck, defaultCamera(truck), rs);
+}
+
+TEST_CASE("the glTF shading's kernel gives the general kernel's images", "[shade][pbr]") {
+  const Scene d = builtinScene("builtin:default");  // textured, with vertex colours on some draws
+  const Camera cam = defaultCamera(d);
+  RenderSettings rs;
+  rs.shading = ShadingMode::Pbr;
+  rs.filter = TexFilter::Auto;  // the samplers' own filters, anisotropic where they blend levels
+  rs.environment = "none";
+  compareForms("default, glTF, headlight", d, cam, rs, false);
+  RenderSettings env = rs;
+  env.environment = "";  // the built-in environment
+  compareForms("default, glTF, built-in environment", d, cam, env, false);
+  RenderSettings lights = rs;
+  lights.lights = {DirectionalLight{{0.3f, 0.5f, 1.0f}, 0.7f}, DirectionalLight{{-1.0f, 0.2f, 0.3f}, 0.4f}};
+  compareForms("default, glTF, two lights", d, cam, lights, false);
+  RenderSettings wire = rs;
+  wire.wireframe = Wireframe::On;  // line fragments among the triangles'
+  compareForms("default, glTF, wireframe", d, cam, wire, false);
+  RenderSettings film = env;
+  film.post.tonemap = ToneMap::Neutral;  // the float film
+  compareForms("default, glTF, environment, tone mapped", d, cam, film, false);
+  const std::string a = assimpDir();
+  if (a.empty()) {
+    skipTest("assimp-testmodels is absent: ClearCoatTest (emissive and normal maps) was not compared");
+  } else {
+    for (const char* f : {"/ClearCoat-glTF/ClearCoatTest.gltf", "/textureTransform/TextureTransformTest.gltf"}) {
+      const Scene s = loadGltf(a + f);
+      compareForms(f, s, defaultCamera(s), rs, false);
+      compareForms(std::string(f) + ", environment", s, defaultCamera(s), env, false);
+    }
+  }
+  const std::string dir = sharedDir();
+  if (dir.empty()) {
+    skipTest("../shared is absent: the textured milk truck was not compared");
+    return;
+  }
+  const Scene truck = loadGltf(dir + "/models/milktruck.glb");
+  compareForms("milktruck, glTF", truck, defaultCamera(truck), rs, false);
+  compareForms("milktruck, glTF, environment", truck, defaultCamera(truck), env, false);
 }

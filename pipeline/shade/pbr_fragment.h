@@ -1,0 +1,327 @@
+// The glTF shading of a fragment (`--shading pbr`): the members of
+// shading::Shade that read a material's textures, normal maps and lights
+// (included at the end of shade_fragment.h, which declares them), and the
+// kernel specialised for it, ShadePbr, which the shade stage launches for the
+// glTF shading at one sample a pixel on every backend (shade_stage.cpp).
+//
+// Why a kernel of its own: the general kernel carries every shading mode and
+// every feature a fragment may need, and read its material per pixel. The
+// specialised one is compiled per set of scene features (PbrFeature: texture
+// coordinates, environment, punctual lights), chosen on the host per frame,
+// so that a scene without one carries none of its code, and it looks up a
+// triangle's material, texture and face normal once per triangle (PbrTri).
+// Both evaluate the same expressions in the same order (shadePbr<kFeat>, one
+// template), so a frame gets the same bits from either.
+#pragma once
+
+#include "backends/flatten.h"
+#include "pipeline/shade/shade_fragment.h"
+
+namespace rast {
+namespace shading {
+
+KOKKOS_INLINE_FUNCTION float2 lerp3(float2 a, float2 b, float2 c, float b0, float b1, float b2) {
+  return {a.x * b0 + b.x * b1 + c.x * b2, a.y * b0 + b.y * b1 + c.y * b2};
+}
+
+// A texture at uv, filtered as the frame asks; `decode` is the sRGB table for
+// colour textures, the unorm one for data.
+KOKKOS_INLINE_FUNCTION float4 Shade::sampleTexture(const TextureGPU& tex, float2 uv, const DView<float>& decode,
+                                                   float2 dx, float2 dy) const {
+  if (p.filter == TexFilter::Auto) return sampleSampler(tex, texels, decode, uv.x, uv.y, dx, dy, p.anisotropy);
+  if (p.filter == TexFilter::Trilinear)
+    return sampleTrilinear(tex, texels, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
+  if (p.filter == TexFilter::Nearest) return sampleNearest(tex, texels, decode, uv.x, uv.y);
+  return sampleBilinear(tex, texels, decode, uv.x, uv.y);
+}
+
+// Texture t of the scene (a material's slot).
+KOKKOS_INLINE_FUNCTION float4 Shade::sampleMaterial(int32_t t, float2 uv, const DView<float>& decode, float2 dx,
+                                                    float2 dy) const {
+  const TextureGPU tex = textures(t);
+  return sampleTexture(tex, uv, decode, dx, dy);
+}
+
+KOKKOS_INLINE_FUNCTION Shade::UvSet Shade::uvSet(float2 t0, float2 t1, float2 t2, const float b[3], const float bx[3],
+                                                 const float by[3], bool derivatives) {
+  UvSet c;
+  c.t0 = t0;
+  c.t1 = t1;
+  c.t2 = t2;
+  c.uv = lerp3(t0, t1, t2, b[0], b[1], b[2]);
+  if (derivatives) {
+    const float2 ux = lerp3(t0, t1, t2, bx[0], bx[1], bx[2]), uy = lerp3(t0, t1, t2, by[0], by[1], by[2]);
+    c.dx = float2{ux.x - c.uv.x, ux.y - c.uv.y};
+    c.dy = float2{uy.x - c.uv.x, uy.y - c.uv.y};
+  }
+  return c;
+}
+
+// The normal-mapped normal at a fragment whose interpolated normal is N
+// (turned towards the viewer when `back`). The tangent frame: the
+// primitive's tangents (the file's TANGENT or generated at load,
+// Scene::tangents) interpolated and moved to the world by the draw's
+// matrix, else the triangle's dP/du (skinned draws, whose tangents the
+// vertex stage does not pose, and primitives without tangents); made
+// orthogonal to N, the bitangent w N x T (w: the tangents' handedness,
+// turned by a mirroring matrix so that it stays the file's bitangent).
+// A back face turns all three, as the Khronos renderer does.
+KOKKOS_INLINE_FUNCTION float3 Shade::normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
+                                                  float3 N, bool back, const UvSet& c) const {
+  float3 T{0.0f, 0.0f, 0.0f};
+  float w = 1.0f;
+  if (hasTangent) {
+    const DrawGPU& dr = draws(f.draw);
+    const float4 t0 = tangents(f.s0), t1 = tangents(f.s1), t2 = tangents(f.s2);
+    const float tw = t0.w * b0 + t1.w * b1 + t2.w * b2;
+    if (dr.skinJoint < 0 && tw != 0.0f) {
+      const float3 to{t0.x * b0 + t1.x * b1 + t2.x * b2, t0.y * b0 + t1.y * b1 + t2.y * b2,
+                      t0.z * b0 + t1.z * b1 + t2.z * b2};
+      const float* M = dr.modelF.m;
+      T = float3{M[0] * to.x + M[4] * to.y + M[8] * to.z, M[1] * to.x + M[5] * to.y + M[9] * to.z,
+                 M[2] * to.x + M[6] * to.y + M[10] * to.z};
+      T = T - N * dot(N, T);
+      w = (tw < 0.0f) != (f.mirrored != 0) ? -1.0f : 1.0f;
+    }
+  }
+  if (!(dot(T, T) > 1e-12f)) {
+    // dP/du of the triangle (position and uv are both linear over it).
+    const float3 e1 = f.pos[1] - f.pos[0], e2 = f.pos[2] - f.pos[0];
+    const float du1 = c.t1.x - c.t0.x, dv1 = c.t1.y - c.t0.y;
+    const float du2 = c.t2.x - c.t0.x, dv2 = c.t2.y - c.t0.y;
+    const float det = du1 * dv2 - du2 * dv1;
+    T = det != 0.0f ? (e1 * dv2 - e2 * dv1) * (1.0f / det) : e1;
+    T = T - N * dot(N, T);
+    w = 1.0f;
+  }
+  const float s = back ? -1.0f : 1.0f;
+  const float3 Ng = N * s;
+  if (!(dot(T, T) > 0.0f)) return Ng;
+  T = normalize(T);
+  const float3 B = cross(N, T) * (w * s);
+  const float4 nt = sampleMaterial(m.normalTexture, c.uv, unorm, c.dx, c.dy);
+  return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T * s, B, Ng);
+}
+
+// The glTF shading's part of triangle f (prepared): its material, or the
+// specification's default material without one.
+KOKKOS_INLINE_FUNCTION PbrTri Shade::pbrTri(const TriFrag& f) const {
+  PbrTri t;
+  MaterialGPU& m = t.m;
+  m = MaterialGPU{};
+  m.baseColor = float4{1.0f, 1.0f, 1.0f, 1.0f};
+  m.texture = m.mrTexture = m.normalTexture = m.occlusionTexture = m.emissiveTexture = -1;
+  m.metallic = m.roughness = m.normalScale = m.occlusionStrength = 1.0f;  // the spec's default material
+  if (f.material >= 0) m = materials(f.material);
+  t.textured = hasUV && (m.texture >= 0 || m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 ||
+                         m.emissiveTexture >= 0);
+  // The material's coordinates: the first set, and the second where some
+  // of its textures sample another set or transform (uv1Slots).
+  t.on1 = hasUV1 ? uint32_t(m.flags) >> kMaterialUv1Shift : 0u;
+  t.face = cross(f.pos[1] - f.pos[0], f.pos[2] - f.pos[0]);
+  return t;
+}
+
+// The glTF 2.0 metallic-roughness model (pbr_shading.h) at a fragment of
+// triangle f (its PbrTri t) with barycentrics b and interpolated normal N,
+// position P: the material's factors times its textures, the file's
+// punctual lights (else --light, or a headlight when there is no environment
+// either), emission, and the environment's image-based light
+// (ibl_shading.h), or without one an ambient term; both scaled by the
+// occlusion texture. Linear light. kFeat: the scene's features
+// (PbrFeature) known at compile time, or kPbrAny.
+template <int kFeat>
+KOKKOS_INLINE_FUNCTION float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
+                                              int32_t oy, float b0, float b1, float b2, float3 N,
+                                              const float3& P) const {
+  constexpr bool kAny = kFeat == kPbrAny;
+  const bool useEnv = kAny ? p.useEnv != 0 : (kFeat & kPbrEnv) != 0;
+  const bool anyPunctual = kAny ? numPunctual > 0 : (kFeat & kPbrPunctual) != 0;
+  const MaterialGPU& m = t.m;
+  const bool textured = (kAny || (kFeat & kPbrTextured)) && t.textured;
+  const uint32_t on1 = t.on1;
+  UvSet c0, c1;
+  if (textured) {
+    const float b[3] = {b0, b1, b2};
+    float bx[3] = {0.0f, 0.0f, 0.0f}, by[3] = {0.0f, 0.0f, 0.0f};
+    const bool derivatives = p.filter == TexFilter::Trilinear || p.filter == TexFilter::Auto;
+    if (derivatives) {  // analytic derivatives, as the other modes take them (bary(), its edges evaluated once)
+      const Edges& e = f.e;
+      const int64_t E0 = e.eval(0, X, Y), E1 = e.eval(1, X, Y), E2 = e.eval(2, X, Y);
+      baryFrom(f, e.atSample(0, E0, ox + kSubOne, oy), e.atSample(1, E1, ox + kSubOne, oy),
+               e.atSample(2, E2, ox + kSubOne, oy), bx[0], bx[1], bx[2]);
+      baryFrom(f, e.atSample(0, E0, ox, oy + kSubOne), e.atSample(1, E1, ox, oy + kSubOne),
+               e.atSample(2, E2, ox, oy + kSubOne), by[0], by[1], by[2]);
+    }
+    c0 = uvSet(f.uv[0], f.uv[1], f.uv[2], b, bx, by, derivatives);
+    if (on1) c1 = uvSet(uvs1(f.s0), uvs1(f.s1), uvs1(f.s2), b, bx, by, derivatives);
+  }
+  float4 base = m.baseColor;
+  // The base colour's texture is the triangle's (TriFrag::tex, loaded by prepare).
+  if (textured && m.texture >= 0) base = base * sampleTexture(f.tex, c0.uv, lut, c0.dx, c0.dy);
+  if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
+  const float alpha = (m.flags & kMaterialOpaque) || f.material < 0 ? 1.0f : base.w;
+  const float3 baseRgb{base.x, base.y, base.z};
+  // The debug views (--shading basecolor, ...) take the general kernel
+  // (kAny) only: the glTF shading's own kernel carries none of them.
+  if ((kAny && p.mode == ShadingMode::BaseColor) || ((m.flags & kMaterialUnlit) && (!kAny || p.mode == ShadingMode::Pbr)))
+    return float4{baseRgb.x, baseRgb.y, baseRgb.z, alpha};
+
+  pbr::Surface s{baseRgb, clamp01(m.metallic), clamp01(m.roughness)};
+  if (textured && m.mrTexture >= 0) {
+    const UvSet& c = on1 >> SlotMetalRough & 1u ? c1 : c0;
+    const float4 mr = sampleMaterial(m.mrTexture, c.uv, unorm, c.dx, c.dy);
+    s.roughness = clamp01(s.roughness * mr.y);
+    s.metallic = clamp01(s.metallic * mr.z);
+  }
+  // Laid out as glTF's metallicRoughness texture: G roughness, B metal.
+  if (kAny && p.mode == ShadingMode::MetalRough) return float4{0.0f, s.roughness, s.metallic, alpha};
+  const float3 V = normalize(f.eye - P);
+  // Back faces (drawn when the material is double-sided) turn their
+  // normal towards the viewer, as the specification says.
+  const bool back = (dot(t.face, V) < 0.0f) != (f.mirrored != 0);
+  const float3 Ng = back ? N * -1.0f : N;
+  if (textured && m.normalTexture >= 0) N = normalMapped(f, m, b0, b1, b2, N, back, on1 >> SlotNormal & 1u ? c1 : c0);
+  else N = Ng;
+  if (kAny && p.mode == ShadingMode::ShadingNormals)  // encoded as the normals view encodes
+    return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, alpha};
+  if (kAny && p.mode == ShadingMode::Occlusion) {
+    const float ao = occlusionAt(m, textured, on1, c0, c1);
+    return float4{ao, ao, ao, alpha};
+  }
+  if (kAny && p.mode == ShadingMode::Emissive) {
+    const float3 e = emissionAt(m, textured, on1, c0, c1);
+    return float4{e.x, e.y, e.z, alpha};
+  }
+
+  float3 color{0.0f, 0.0f, 0.0f};
+  if (anyPunctual) {
+    for (int k = 0; k < numPunctual; ++k) {
+      float3 L;
+      const float3 E = pbr::incidentLight(punctual(k), P, L);
+      color = color + pbr::shadeLight(s, N, V, L, E);
+    }
+  } else if (p.headlight) {
+    // Scaled by pi: a white Lambertian surface facing it reflects what
+    // the Lambert shading's headlight gives it. With an environment, that
+    // lights a file without lights of its own instead.
+    const float I = (1.0f - p.ambient) * pbr::kPi;
+    if (!useEnv) color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
+  } else {
+    for (int k = 0; k < int(lights.extent(0)); ++k) {
+      const float I = lights(k).intensity * pbr::kPi;
+      color = color + pbr::shadeLight(s, N, V, lights(k).direction, float3{I, I, I});
+    }
+  }
+  // Indirect light (the environment's, else an ambient term on the
+  // diffuse part), darkened by the occlusion texture: only it.
+  const float ao = occlusionAt(m, textured, on1, c0, c1);
+  if (useEnv)
+    color = color + iblShade(p.env, N, V, s.base, s.metallic, s.roughness, ao);
+  else if (!anyPunctual)
+    color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
+  color = color + emissionAt(m, textured, on1, c0, c1);
+  return float4{color.x, color.y, color.z, alpha};
+}
+
+KOKKOS_INLINE_FUNCTION float Shade::occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+                                                const UvSet& c1) const {
+  if (!textured || m.occlusionTexture < 0) return 1.0f;
+  const UvSet& c = on1 >> SlotOcclusion & 1u ? c1 : c0;
+  return 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, c.uv, unorm, c.dx, c.dy).x - 1.0f);
+}
+
+// Emitted light: the factor (times KHR_materials_emissive_strength) times the texture.
+KOKKOS_INLINE_FUNCTION float3 Shade::emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+                                                const UvSet& c1) const {
+  float3 emissive = m.emissive;
+  if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
+    const UvSet& c = on1 >> SlotEmissive & 1u ? c1 : c0;
+    const float4 et = sampleMaterial(m.emissiveTexture, c.uv, lut, c.dx, c.dy);
+    emissive = emissive * float3{et.x, et.y, et.z};
+  }
+  return emissive;
+}
+
+// The glTF shading's kernel (rast::shade::pbr): one sample a pixel, the
+// general kernel's layouts (runs along rows on CPUs, interleaved columns on
+// GPUs: kInterleaved), a triangle's lookups (TriFrag and PbrTri) kept from
+// pixel to pixel. The same outputs, in the same bits, as Shade::shadeSingle.
+struct PbrFrag {
+  TriFrag f;
+  PbrTri t;
+};
+
+template <int kFeat, bool kInterleaved>
+struct ShadePbr {
+  Shade k;
+
+  KOKKOS_FORCEINLINE_FUNCTION void use(uint32_t index, PbrFrag& q) const {
+    if (index == q.f.index) return;
+    k.prepare(index, q.f);
+    if (!(index & kLineFlag)) q.t = k.pbrTri(q.f);
+  }
+
+  // Shade::shadeFragment's path for the glTF shading at a pixel centre.
+  KOKKOS_FORCEINLINE_FUNCTION float4 fragment(const PbrFrag& q, int32_t X, int32_t Y, float3& n0, float3* p0) const {
+    const TriFrag& f = q.f;
+    if (f.index & kLineFlag) return k.lineShade.color(f.index & ~kLineFlag);
+    float b0, b1, b2;
+    k.bary(f, f.e, X, Y, 0, 0, b0, b1, b2);
+    const float3 N = normalize(f.n[0] * b0 + f.n[1] * b1 + f.n[2] * b2);
+    const float3 P = f.pos[0] * b0 + f.pos[1] * b1 + f.pos[2] * b2;
+    n0 = N;
+    if (p0) *p0 = P;
+    return k.template shadePbr<kFeat>(f, q.t, X, Y, 0, 0, b0, b1, b2, N, P);
+  }
+
+  // Shade::shadeSingle for the glTF shading.
+  KOKKOS_FORCEINLINE_FUNCTION void single(const int64_t i, const int32_t X, const int32_t Y, PbrFrag& q,
+                                          const uint64_t key0) const {
+    if (k.clearVis && key0 != kClearKey) k.vis(i) = kClearKey;
+    k.resetBlock(X, Y);
+    k.writeIds(i, key0);
+    const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
+    float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
+    if (idx0) use(idx0 - 1, q);
+    if (k.p.floatOut)
+      k.hdr(i) = idx0 ? fragment(q, X, Y, n0, &p0) : k.p.backgroundFilm;
+    else
+      k.color(i) = idx0 ? k.template display<true>(fragment(q, X, Y, n0, nullptr)) : k.p.backgroundPacked;
+    if (k.p.wantNormals) k.normalOut(i) = n0;
+    if (k.p.wantGeom) k.writeGeometry(i, k.viewGeometry(n0, p0));
+  }
+
+  RAST_FLATTEN void operator()(const int64_t item) const {
+    if (!kInterleaved) {  // Shade::operator(): pixels [x0, x1) of row Y
+      PbrFrag q{};  // (zeroed once per run of pixels: GCC cannot see that a pixel is shaded after use())
+      const uint32_t it = uint32_t(item), rows = uint32_t(k.runsPerRow);
+      const int32_t Y = int32_t(it / rows);
+      const int32_t x0 = int32_t(it - uint32_t(Y) * rows) * k.run;
+      const int32_t x1 = x0 + k.run < k.width ? x0 + k.run : k.width;
+      const int64_t row = int64_t(Y) * k.width;
+      for (int32_t X = x0; X < x1; ++X) single(row + X, X, Y, q, k.vis(row + X));
+      return;
+    }
+    // Shade::shadeInterleaved: a column of kShadeInterleave pixels, its keys loaded first.
+    const uint32_t thisFrame = k.p.blockFrames ? k.p.frame(0).frame : 0u;
+    const Shade::Column at = k.column(uint32_t(item));
+    if (at.X >= uint32_t(k.width)) return;
+    const uint32_t rows = uint32_t(k.height) - at.Y < uint32_t(kShadeInterleave) ? uint32_t(k.height) - at.Y
+                                                                                : uint32_t(kShadeInterleave);
+    const bool tagged =
+        !k.p.blockFrames ||
+        k.blockFrame((at.Y >> kVisBlockShift) * uint32_t(k.blocksPerRow) + (at.X >> kVisBlockShift)) == thisFrame;
+    uint64_t keys[kShadeInterleave];
+    PbrFrag q;
+    for (uint32_t j = 0; j < uint32_t(kShadeInterleave); ++j)
+      keys[j] = tagged && j < rows ? k.vis(at.i + j * uint32_t(k.width)) : kClearKey;
+    for (uint32_t j = 0; j < rows; ++j) {
+      single(int64_t(at.i + j * uint32_t(k.width)), int32_t(at.X), int32_t(at.Y + j), q, keys[0]);
+      for (uint32_t r = 0; r + 1 < uint32_t(kShadeInterleave); ++r) keys[r] = keys[r + 1];
+    }
+  }
+};
+
+}  // namespace shading
+}  // namespace rast
