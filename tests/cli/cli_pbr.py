@@ -34,17 +34,20 @@ def run(*a, exe=None):
     return subprocess.run([exe or args.rast] + list(a), capture_output=True, text=True, env=env, timeout=600)
 
 
-def checker_png(size):
+def rgba_png(width, height, pixel):
+    """A width x height RGBA PNG whose pixel (x, y) is pixel(x, y), 4 bytes."""
     import zlib
-    # A size x size RGBA checkerboard of 2x2 cells, as a PNG.
-    rows = b""
-    for y in range(size):
-        rows += b"\0" + b"".join(bytes((255, 255, 255, 255)) if ((x // 2) + (y // 2)) % 2 else bytes((0, 0, 255, 255))
-                                 for x in range(size))
+    rows = b"".join(b"\0" + b"".join(pixel(x, y) for x in range(width)) for y in range(height))
     def chunk(t, d):
         return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 6, 0, 0, 0)) +
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
             chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def checker_png(size):
+    # A size x size RGBA checkerboard of 2x2 cells.
+    return rgba_png(size, size, lambda x, y: bytes((255, 255, 255, 255)) if ((x // 2) + (y // 2)) % 2
+                    else bytes((0, 0, 255, 255)))
 
 
 # A textured square facing +z, a sun shining along -z (onto it), a metal-ish material.
@@ -149,11 +152,7 @@ check(len(t1) > 0 and t0 != t1, "--tonemap pbr-neutral compresses a bright image
 # a square whose material is known. Colours go through the sRGB curve, data
 # is stored raw, as the normals view stores it.
 def solid_png(rgba):
-    import zlib
-    def chunk(t, d):
-        return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 6, 0, 0, 0)) +
-            chunk(b"IDAT", zlib.compress((b"\0" + bytes(rgba) * 2) * 2)) + chunk(b"IEND", b""))
+    return rgba_png(2, 2, lambda x, y: bytes(rgba))
 
 
 def srgb(v):
