@@ -25,18 +25,9 @@ from PIL import Image
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tests", "support"))
-from probe_files import CONTROLS, probe_file, read_glb, write_glb  # noqa: E402
+from probe_files import CONTROLS, probe_file, read_glb, read_pfm, write_glb  # noqa: E402
 
 FLAGS = ["--camera", "0", "--size", "200x150", "--aa", "none", "--env", "none", "--tonemap", "none", "--shading", "pbr"]
-
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = (int(x) for x in f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    return data.reshape(h, w, 3 if kind == b"PF" else 1)[::-1]
 
 
 def agreement(golden, pfm):

@@ -18,18 +18,9 @@ from PIL import Image, ImageDraw
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tests", "support"))
-from probe_files import probe_file  # noqa: E402  (probe-transform's file gets its KHR_texture_transform)
+from probe_files import probe_file, read_pfm  # noqa: E402  (probe-transform's file gets its KHR_texture_transform)
 GOLDEN = os.path.normpath(os.path.join(HERE, "..", "..", "tests", "golden", "probes"))
 FLAGS = ["--size", "200x150", "--aa", "none", "--env", "none", "--tonemap", "none", "--shading", "pbr"]
-
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = (int(x) for x in f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    return data.reshape(h, w, 3 if kind == b"PF" else 1)[::-1]
 
 
 def main():

@@ -111,3 +111,15 @@ CONTROLS = {
         ("spot light (as a point light)", lambda d: [l.update(type="point") for l in lights(d) if l["type"] == "spot"]),
     ],
 }
+
+
+def read_pfm(path):
+    """A PFM's pixels as a numpy array [height, width, channels], top row
+    first (the measurement scripts' reader; numpy imported here only)."""
+    import numpy as np
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = (int(x) for x in f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    return data.reshape(h, w, 3 if kind == b"PF" else 1)[::-1]
