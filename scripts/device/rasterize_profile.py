@@ -10,15 +10,13 @@ tests; run on the GPU machine next to rasterize_vs_nvdiffrast.py:
 """
 import argparse
 import os
-import subprocess
 import sys
-import tempfile
 import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from nvdiffrast_bench import load_glb, view_proj  # noqa: E402
+from rasterize_vs_nvdiffrast import clip_space_inputs  # noqa: E402
 
 
 def median(v):
@@ -53,13 +51,7 @@ def main():
     ctx = rast.RasterizeContext()
     for name in a.scenes.split(","):
         path = os.path.join(a.models, name + ".glb")
-        with tempfile.TemporaryDirectory() as tmp:
-            glb = os.path.join(tmp, "s.glb")
-            subprocess.run([a.rast, "export", path, "-o", glb], check=True, capture_output=True)
-            pos, tri = load_glb(glb)
-        cam = rast.Camera.framing(rast.Scene.load(path))
-        mvp = view_proj(cam.eye, cam.target, cam.up, cam.fovy, cam.near, cam.far, w / h)
-        clip = (np.c_[pos, np.ones(len(pos))] @ mvp.T).astype(np.float32)
+        clip, tri = clip_space_inputs(rast, a.rast, path, w, h)
         p = torch.from_numpy(clip).cuda().unsqueeze(0).contiguous()
         t = torch.from_numpy(tri).cuda().contiguous()
         full = lambda: rast.rasterize(p, t, (h, w), context=ctx)  # noqa: E731

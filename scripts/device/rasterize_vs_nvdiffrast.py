@@ -48,6 +48,21 @@ def timed(torch, fn, frames, warmup):
     return median(ms), min(ms)
 
 
+def clip_space_inputs(rast, rast_cli, path, w, h):
+    """The scene's triangles as `rast export` writes them (world space) and
+    their clip-space positions from rast's framing camera at w x h:
+    (clip [V,4] float32, tri [T,3] int32). RuntimeError when the export fails."""
+    with tempfile.TemporaryDirectory() as tmp:
+        glb = os.path.join(tmp, "scene.glb")
+        r = subprocess.run([rast_cli, "export", path, "-o", glb], capture_output=True, text=True, timeout=600)
+        if r.returncode != 0:
+            raise RuntimeError(f"rast export failed: {r.stderr.strip()}")
+        pos, tri = load_glb(glb)
+    cam = rast.Camera.framing(rast.Scene.load(path))
+    mvp = view_proj(cam.eye, cam.target, cam.up, cam.fovy, cam.near, cam.far, w / h)
+    return (np.c_[pos, np.ones(len(pos))] @ mvp.T).astype(np.float32), tri
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rast", required=True, help="a rast CLI (for `rast export`)")
@@ -75,16 +90,11 @@ def main():
         if not os.path.exists(path):
             print(f"{name}: {path} is missing, skipped", flush=True)
             continue
-        with tempfile.TemporaryDirectory() as tmp:
-            glb = os.path.join(tmp, "scene.glb")
-            r = subprocess.run([a.rast, "export", path, "-o", glb], capture_output=True, text=True, timeout=600)
-            if r.returncode != 0:
-                print(f"{name}: rast export failed: {r.stderr.strip()}", flush=True)
-                continue
-            pos, tri = load_glb(glb)
-        cam = rast.Camera.framing(rast.Scene.load(path))
-        mvp = view_proj(cam.eye, cam.target, cam.up, cam.fovy, cam.near, cam.far, w / h)
-        clip = (np.c_[pos, np.ones(len(pos))] @ mvp.T).astype(np.float32)
+        try:
+            clip, tri = clip_space_inputs(rast, a.rast, path, w, h)
+        except RuntimeError as e:
+            print(f"{name}: {e}", flush=True)
+            continue
         p = torch.from_numpy(clip).cuda().unsqueeze(0).contiguous()
         t = torch.from_numpy(tri).cuda().contiguous()
         res = (h, w)
