@@ -59,6 +59,28 @@ blob = pos + nrm + uv + idx
 image = checker_png(16)
 
 
+# The square's mesh, accessors and buffer (blob), material 0 on it: the part
+# of every glTF file of this test that is not its material or lights.
+QUAD = {
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3,
+                                "material": 0}]}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
+                  {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                  {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+                  {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                    {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 12}],
+    "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+}
+
+
+def write_doc(name, doc):
+    path = os.path.join(args.workdir, name + ".gltf")
+    with open(path, "w") as f:
+        json.dump(doc, f)
+    return path
+
+
 def scene(name, sun_rotation=(0, 0, 0, 1), mag=9729, min_=9729, intensity=3.0):
     doc = {
         "asset": {"version": "2.0"},
@@ -72,20 +94,9 @@ def scene(name, sun_rotation=(0, 0, 0, 1), mag=9729, min_=9729, intensity=3.0):
         "textures": [{"source": 0, "sampler": 0}],
         "samplers": [{"magFilter": mag, "minFilter": min_}],
         "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode()}],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3,
-                                    "material": 0}]}],
-        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
-                      {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
-                      {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-                      {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}],
-        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-                        {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 12}],
-        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+        **QUAD,
     }
-    path = os.path.join(args.workdir, name + ".gltf")
-    with open(path, "w") as f:
-        json.dump(doc, f)
-    return path
+    return write_doc(name, doc)
 
 
 VIEW = ["--size", "96x96", "--eye", "0,0,3", "--target", "0,0,0", "--near", "0.1", "--far", "10"]
@@ -166,19 +177,9 @@ vdoc = {
                    "emissiveFactor": [0.1, 0.2, 0.3], "occlusionTexture": {"index": 0, "strength": 0.5}}],
     "textures": [{"source": 0}],
     "images": [{"uri": "data:image/png;base64," + base64.b64encode(solid_png((128, 0, 0, 255))).decode()}],
-    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3,
-                                "material": 0}]}],
-    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
-                  {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
-                  {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-                  {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}],
-    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-                    {"buffer": 0, "byteOffset": 96, "byteLength": 32}, {"buffer": 0, "byteOffset": 128, "byteLength": 12}],
-    "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+    **QUAD,
 }
-views_path = os.path.join(args.workdir, "views.gltf")
-with open(views_path, "w") as f:
-    json.dump(vdoc, f)
+views_path = write_doc("views", vdoc)
 ao = 1.0 + 0.5 * (128 / 255 - 1.0)
 expect = {"basecolor": (srgb(0.8), srgb(0.3), srgb(0.2)), "metalrough": (0, round(0.4 * 255), round(0.6 * 255)),
           "occlusion": (round(ao * 255),) * 3, "emissive": (srgb(0.1), srgb(0.2), srgb(0.3)),
