@@ -47,7 +47,8 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--aa", aa, "anti-aliasing: none|ssaa2|ssaa4|msaa2|msaa4|msaa8 (default: none; msaa4 for the default scene's image)");
   app.add_option("--anisotropy", anisotropy,
                  "anisotropic filtering's most taps, 1..16, where a glTF sampler filters between mipmap levels "
-                 "(--filter auto, the glTF shading; 16 as the Khronos Sample Renderer asks WebGL for)")
+                 "(--filter auto, the glTF shading; 1: the sampler's own filter, 16: as the Khronos Sample "
+                 "Renderer asks WebGL for)")
       ->capture_default_str()
       ->check(CLI::Range(1, 16));
   app.add_option("--env", environment,

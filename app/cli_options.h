@@ -39,7 +39,7 @@ struct SceneOptions {
   std::string polygon = "fill";  // points and lines (docs/points-lines.md)
   bool wireframe = false, hiddenLine = false;
   double lineWidth = 1.0, pointSize = 1.0;
-  int anisotropy = 16;
+  int anisotropy = 1;
   std::string environment;  // --env: "" the built-in neutral one, none, or a .hdr file
   double envIntensity = 1.0, envRotation = 90.0;  // anisotropic filtering's most taps (--filter auto, the glTF shading)
   // Security and resource limits (docs/security.md).

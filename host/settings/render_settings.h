@@ -68,7 +68,11 @@ struct RenderSettings {
   TexFilter filter = TexFilter::Bilinear;
   // Anisotropic filtering's most taps (1..16) where a glTF sampler filters
   // linearly between mipmap levels, under --filter auto and the glTF shading.
-  int anisotropy = 16;
+  // An option, off by default: the sampler's own filter is what the file
+  // asks for, and 16 taps cost the textured models' frames up to twice their
+  // shading (docs/performance.md); --anisotropy 16 gives the Sample
+  // Renderer's WebGL setting (docs/quality.md charts its error and cost).
+  int anisotropy = 1;
   // Image-based light of the glTF shading (pipeline/shade/environment.h):
   // "" the built-in neutral environment, "none" none, else a Radiance .hdr
   // file; its intensity and rotation about +Y (degrees).

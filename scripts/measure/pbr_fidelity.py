@@ -153,8 +153,10 @@ def main():
         cam = camera_flags(a.rast, lit, a.size, a.out)
         rast_png = os.path.join(a.out, name + ".rast.png")
         ref_png = os.path.join(a.out, name + ".ref.png")
+        # --anisotropy 16: the reference asks WebGL for 16x anisotropic
+        # filtering; rast's default is the sampler's own filter.
         cmd = [a.rast, "render", lit, "--size", a.size, "-o", rast_png, "--shading", "pbr", "--aa", "none",
-               "--tonemap", a.tonemap] + cam + a.extra_flags.split()
+               "--tonemap", a.tonemap, "--anisotropy", "16"] + cam + a.extra_flags.split()
         # The reference has no image-based light without --env: neither has rast then.
         cmd += ["--env", a.env or "none"]
         r = subprocess.run(cmd, capture_output=True, text=True)

@@ -6,6 +6,10 @@ scenes and cameras, render the reference once (`rast render --reference`,
     aa in none ssaa2 ssaa4 msaa2 msaa4 msaa8  x  filter in nearest bilinear trilinear
     x  raster method (auto; every method with --all-methods)
 
+(`--filters` also takes auto, the glTF samplers' own filters, and anisoN:
+auto with anisotropic filtering of at most N taps, `--anisotropy N`; the
+textured models render with the glTF shading, whose samplers those are)
+
 and measure its median frame time (`rast bench --json`, same flags) and its
 error against the reference (`rast compare --json`, edges from the reference
 camera's primitive ids). One CSV row per configuration:
@@ -40,7 +44,16 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 AA_MODES = ["none", "ssaa2", "ssaa4", "msaa2", "msaa4", "msaa8"]
 FILTERS = ["nearest", "bilinear", "trilinear"]
+
+
+def filter_flags(name):
+    """rast flags of a --filters entry: a filter name, or anisoN (--filter
+    auto --anisotropy N)."""
+    if name.startswith("aniso"):
+        return ["--filter", "auto", "--anisotropy", name[len("aniso"):]]
+    return ["--filter", name]
 OBLIQUE = ["--eye", "0.3,-1.6,2.2", "--target", "0,0,0"]
+GRAZING = ["--eye", "0,0.3,1.6", "--target", "0,0,-1"]
 FIELDS = ["scene", "aa", "filter", "method", "ms", "rmse_linear", "psnr", "ssim", "frac_gt1", "frac_gt8",
           "edge_rmse", "reference", "resolved_method", "size", "ms_min"]
 FAKE_LABEL = "FAKE:bilinear-noaa"
@@ -55,6 +68,9 @@ def scene_list(shared):
         p = os.path.join(models, m)
         if os.path.exists(p):
             scenes.append((m, p, []))
+    p = os.path.join(models, "checkerboard.glb")
+    if os.path.exists(p):  # the board at a grazing angle: where anisotropic filtering matters
+        scenes.append(("checkerboard.glb@grazing", p, GRAZING))
     scenes.append(("builtin:default", "builtin:default", []))
     scenes.append(("builtin:slivers", "builtin:slivers", []))
     scenes.append(("builtin:grid?n=64@oblique", "builtin:grid?n=64", OBLIQUE))
@@ -159,7 +175,7 @@ def main():
             notes.append(f"note: skipping aa={m}: {why}")
     filter_ok = {}
     for f in filters:
-        ok, why = probe(["--filter", f])
+        ok, why = probe(filter_flags(f))
         filter_ok[f] = ok
         if not ok:
             notes.append(f"note: skipping filter={f}: {why}")
@@ -213,7 +229,7 @@ def main():
                     if aa_flags[aa] is None or not filter_ok[flt]:
                         skipped += 1
                         continue  # noted once above
-                    cfg = aa_flags[aa] + ["--filter", flt, "--raster", meth]
+                    cfg = aa_flags[aa] + filter_flags(flt) + ["--raster", meth]
                     ctag = f"{tag}_{aa}_{flt}_{meth}"
                     png = os.path.join(work, ctag + ".png")
                     ok, _, why = rast.run(["render"] + sflags + cfg + ["-o", png])
