@@ -79,13 +79,18 @@ KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3
                                        float roughness, float occlusion, float occlusionStrength = 1.0f) {
   const float ndv = clamp01(dot(n, v));
   const float2 fab = iblBrdf(e, ndv, roughness);
-  const float3 diffuse = iblDiffuse(e, n) * baseColor;
   const float3 specular = iblRadiance(e, normalize(n * (2.0f * dot(n, v)) - v), roughness);
-  const float3 metalF = iblGgxFresnel(ndv, roughness, baseColor, fab);
-  const float3 dielF = iblGgxFresnel(ndv, roughness, make3(0.04f, 0.04f, 0.04f), fab);
   const float3 one = make3(1.0f, 1.0f, 1.0f);
-  const float3 dielectric = diffuse * (one - dielF) + specular * dielF;
-  const float3 metal = metalF * specular;
+  // A lobe whose weight is 0 is left at 0: x (1 - 0) + 0 0 is x, so the
+  // colour has the same bits as with both lobes evaluated, and a material
+  // that is all dielectric (most are) or all metal pays for one.
+  float3 dielectric = make3(0.0f, 0.0f, 0.0f), metal = make3(0.0f, 0.0f, 0.0f);
+  if (metallic < 1.0f) {
+    const float3 diffuse = iblDiffuse(e, n) * baseColor;
+    const float3 dielF = iblGgxFresnel(ndv, roughness, make3(0.04f, 0.04f, 0.04f), fab);
+    dielectric = diffuse * (one - dielF) + specular * dielF;
+  }
+  if (metallic > 0.0f) metal = iblGgxFresnel(ndv, roughness, baseColor, fab) * specular;
   const float3 color = dielectric * (1.0f - metallic) + metal * metallic;
   return color * (1.0f + occlusionStrength * (occlusion - 1.0f));
 }

@@ -94,10 +94,10 @@ KOKKOS_INLINE_FUNCTION float3 shadeLight(const Surface& s, const float3& N, cons
     const float spec = NdotL * visibilityGgx(NdotL, NdotV, a) * distributionGgx(NdotH, a);
     const float3 specular = E * spec;
     const float3 fd = fresnelSchlick(float3{0.04f, 0.04f, 0.04f}, 1.0f, VdotH);
-    const float3 fm = fresnelSchlick(s.base, 1.0f, VdotH);
     const float3 dielectric = mix(diffuse, specular, fd);
-    const float3 metal = fm * specular;
-    color = mix(dielectric, metal, s.metallic);
+    // mix(x, m, 0) is x: a dielectric material skips the metal lobe, same bits.
+    color = dielectric;
+    if (s.metallic > 0.0f) color = mix(dielectric, fresnelSchlick(s.base, 1.0f, VdotH) * specular, s.metallic);
   }
   return color;
 }
