@@ -4,15 +4,47 @@
 // long as the glTF shading's (pipeline/shade/pbr_fragment.h: on duck, 1080p,
 // calls to the BRDF, the barycentrics, the sRGB encoder and the texture
 // coordinates cost about 300 instructions a fragment in their calls,
-// arguments and lost common subexpressions). GPU compilers inline device
-// functions of their own accord (and the kernel asks them with
-// KOKKOS_FORCEINLINE_FUNCTION): there it is a plain inline function.
+// arguments and lost common subexpressions). GPU compilers inline the
+// device functions inside of their own accord; there it forces the
+// operator() itself into Kokkos' launch wrapper: nvcc left the textured
+// instances' operator() out of line, and the call's `this` made every thread
+// copy the 2.4 KB functor from the kernel's parameters to its stack first
+// (`cuobjdump -res-usage`: STACK 2,416 bytes), which kept them from launching
+// lightweight (pipeline/shade/shade_stage.cpp).
 #pragma once
 
 #include <Kokkos_Core.hpp>
 
 #if defined(__GNUC__) && !defined(__clang__) && !defined(__CUDACC__) && !defined(__HIPCC__)
 #define RAST_FLATTEN __attribute__((flatten)) inline
+#elif defined(__CUDACC__) || defined(__HIPCC__)
+#define RAST_FLATTEN KOKKOS_FORCEINLINE_FUNCTION
 #else
 #define RAST_FLATTEN KOKKOS_INLINE_FUNCTION
+#endif
+
+// RAST_GPU_INLINE on the member functions a shading kernel calls per
+// fragment (the glTF material's lookups): on a GPU a member function left out
+// of line needs its `this`, the functor, in addressable memory, and a kernel
+// launched lightweight (its functor in the kernel's parameters, data/device.h)
+// then copies the whole functor to every thread's stack first. The large free
+// functions they call (the texture samplers) may stay out of line: they take
+// values, not the functor (pipeline/shade/texture_sampling.h). On host
+// backends a plain inline function (RAST_FLATTEN decides there).
+#if defined(__CUDACC__) || defined(__HIPCC__)
+#define RAST_GPU_INLINE KOKKOS_FORCEINLINE_FUNCTION
+#else
+#define RAST_GPU_INLINE KOKKOS_INLINE_FUNCTION
+#endif
+
+// RAST_GPU_NOINLINE on a large free function that a shading kernel calls in
+// several places (the glTF samplers' filter, texture_sampling.h): inlined
+// five times over, the textured glTF kernel grew so large that nvcc left its
+// whole body out of line from Kokkos' launch wrapper, and that call took the
+// functor's address (the 2.4 KB copy above). Out of line itself, it takes
+// values and locals only. On host backends a plain inline function.
+#if defined(__CUDACC__) || defined(__HIPCC__)
+#define RAST_GPU_NOINLINE KOKKOS_FUNCTION __noinline__
+#else
+#define RAST_GPU_NOINLINE KOKKOS_INLINE_FUNCTION
 #endif

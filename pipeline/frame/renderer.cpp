@@ -257,7 +257,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   // pipeline/data/device.h) copy their functors before launch, which a
   // recorded frame would not redo.
   const bool heavy = kOnDevice && (plan_.blend.mask || plan_.blend.blend ||
-                                   !shadeLaunchesLightweight(plan_.shadeParams, plan_.samples, scene_.hasUV));
+                                   !shadeLaunchesLightweight(plan_.shadeParams, plan_.samples));
   if (split_ || heavy) {
     Kokkos::View<const mat4f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(upload_.data(), upload_.size());
     Kokkos::deep_copy(Kokkos::subview(frame_.uploaded, std::make_pair(size_t(0), upload_.size())), h);

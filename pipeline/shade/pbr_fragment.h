@@ -26,18 +26,19 @@ KOKKOS_INLINE_FUNCTION float2 lerp3(float2 a, float2 b, float2 c, float b0, floa
 
 // A texture at uv, filtered as the frame asks; `decode` is the sRGB table for
 // colour textures, the unorm one for data.
-KOKKOS_INLINE_FUNCTION float4 Shade::sampleTexture(const TextureGPU& tex, float2 uv, const DView<float>& decode,
-                                                   float2 dx, float2 dy) const {
-  if (p.filter == TexFilter::Auto) return sampleSampler(tex, texels, decode, uv.x, uv.y, dx, dy, p.anisotropy);
+RAST_GPU_INLINE float4 Shade::sampleTexture(const TextureGPU& tex, float2 uv, DecodeTable decode, float2 dx,
+                                            float2 dy) const {
+  const TexelTable tx{texels.data()};
+  if (p.filter == TexFilter::Auto) return sampleSampler(tex, tx, decode, uv.x, uv.y, dx, dy, p.anisotropy);
   if (p.filter == TexFilter::Trilinear)
-    return sampleTrilinear(tex, texels, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
-  if (p.filter == TexFilter::Nearest) return sampleNearest(tex, texels, decode, uv.x, uv.y);
-  return sampleBilinear(tex, texels, decode, uv.x, uv.y);
+    return sampleTrilinear(tex, tx, decode, uv.x, uv.y, textureLod(dx.x, dx.y, dy.x, dy.y, tex.width, tex.height));
+  if (p.filter == TexFilter::Nearest) return sampleNearest(tex, tx, decode, uv.x, uv.y);
+  return sampleBilinear(tex, tx, decode, uv.x, uv.y);
 }
 
 // Texture t of the scene (a material's slot).
-KOKKOS_INLINE_FUNCTION float4 Shade::sampleMaterial(int32_t t, float2 uv, const DView<float>& decode, float2 dx,
-                                                    float2 dy) const {
+RAST_GPU_INLINE float4 Shade::sampleMaterial(int32_t t, float2 uv, DecodeTable decode, float2 dx,
+                                             float2 dy) const {
   const TextureGPU tex = textures(t);
   return sampleTexture(tex, uv, decode, dx, dy);
 }
@@ -66,7 +67,7 @@ KOKKOS_INLINE_FUNCTION Shade::UvSet Shade::uvSet(float2 t0, float2 t1, float2 t2
 // orthogonal to N, the bitangent w N x T (w: the tangents' handedness,
 // turned by a mirroring matrix so that it stays the file's bitangent).
 // A back face turns all three, as the Khronos renderer does.
-KOKKOS_INLINE_FUNCTION float3 Shade::normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
+RAST_GPU_INLINE float3 Shade::normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
                                                   float3 N, bool back, const UvSet& c) const {
   float3 T{0.0f, 0.0f, 0.0f};
   float w = 1.0f;
@@ -99,13 +100,13 @@ KOKKOS_INLINE_FUNCTION float3 Shade::normalMapped(const TriFrag& f, const Materi
   if (!(dot(T, T) > 0.0f)) return Ng;
   T = normalize(T);
   const float3 B = cross(N, T) * (w * s);
-  const float4 nt = sampleMaterial(m.normalTexture, c.uv, unorm, c.dx, c.dy);
+  const float4 nt = sampleMaterial(m.normalTexture, c.uv, DecodeTable{unorm.data()}, c.dx, c.dy);
   return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T * s, B, Ng);
 }
 
 // The glTF shading's part of triangle f (prepared): its material, or the
 // specification's default material without one.
-KOKKOS_INLINE_FUNCTION PbrTri Shade::pbrTri(const TriFrag& f) const {
+RAST_GPU_INLINE PbrTri Shade::pbrTri(const TriFrag& f) const {
   PbrTri t;
   MaterialGPU& m = t.m;
   m = MaterialGPU{};
@@ -131,7 +132,7 @@ KOKKOS_INLINE_FUNCTION PbrTri Shade::pbrTri(const TriFrag& f) const {
 // occlusion texture. Linear light. kFeat: the scene's features
 // (PbrFeature) known at compile time, or kPbrAny.
 template <int kFeat>
-KOKKOS_INLINE_FUNCTION float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
+RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
                                               int32_t oy, float b0, float b1, float b2, float3 N,
                                               const float3& P) const {
   constexpr bool kAny = kFeat == kPbrAny;
@@ -158,7 +159,7 @@ KOKKOS_INLINE_FUNCTION float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t,
   }
   float4 base = m.baseColor;
   // The base colour's texture is the triangle's (TriFrag::tex, loaded by prepare).
-  if (textured && m.texture >= 0) base = base * sampleTexture(f.tex, c0.uv, lut, c0.dx, c0.dy);
+  if (textured && m.texture >= 0) base = base * sampleTexture(f.tex, c0.uv, DecodeTable{lut.data()}, c0.dx, c0.dy);
   if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
   const float alpha = (m.flags & kMaterialOpaque) || f.material < 0 ? 1.0f : base.w;
   const float3 baseRgb{base.x, base.y, base.z};
@@ -170,7 +171,7 @@ KOKKOS_INLINE_FUNCTION float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t,
   pbr::Surface s{baseRgb, clamp01(m.metallic), clamp01(m.roughness)};
   if (textured && m.mrTexture >= 0) {
     const UvSet& c = on1 >> SlotMetalRough & 1u ? c1 : c0;
-    const float4 mr = sampleMaterial(m.mrTexture, c.uv, unorm, c.dx, c.dy);
+    const float4 mr = sampleMaterial(m.mrTexture, c.uv, DecodeTable{unorm.data()}, c.dx, c.dy);
     s.roughness = clamp01(s.roughness * mr.y);
     s.metallic = clamp01(s.metallic * mr.z);
   }
@@ -224,20 +225,21 @@ KOKKOS_INLINE_FUNCTION float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t,
   return float4{color.x, color.y, color.z, alpha};
 }
 
-KOKKOS_INLINE_FUNCTION float Shade::occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+RAST_GPU_INLINE float Shade::occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
                                                 const UvSet& c1) const {
   if (!textured || m.occlusionTexture < 0) return 1.0f;
   const UvSet& c = on1 >> SlotOcclusion & 1u ? c1 : c0;
-  return 1.0f + m.occlusionStrength * (sampleMaterial(m.occlusionTexture, c.uv, unorm, c.dx, c.dy).x - 1.0f);
+  const float ao = sampleMaterial(m.occlusionTexture, c.uv, DecodeTable{unorm.data()}, c.dx, c.dy).x;
+  return 1.0f + m.occlusionStrength * (ao - 1.0f);
 }
 
 // Emitted light: the factor (times KHR_materials_emissive_strength) times the texture.
-KOKKOS_INLINE_FUNCTION float3 Shade::emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+RAST_GPU_INLINE float3 Shade::emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
                                                 const UvSet& c1) const {
   float3 emissive = m.emissive;
   if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
     const UvSet& c = on1 >> SlotEmissive & 1u ? c1 : c0;
-    const float4 et = sampleMaterial(m.emissiveTexture, c.uv, lut, c.dx, c.dy);
+    const float4 et = sampleMaterial(m.emissiveTexture, c.uv, DecodeTable{lut.data()}, c.dx, c.dy);
     emissive = emissive * float3{et.x, et.y, et.z};
   }
   return emissive;

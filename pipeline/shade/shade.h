@@ -46,9 +46,7 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
 // Whether a frame of p with `samples` coverage samples a pixel is shaded by a
 // kernel launched lightweight: the lit kernel (Lambert or Blinn-Phong straight
 // to 8-bit colour, one sample), or the glTF shading's (rast::shade::pbr, one
-// sample) for scenes without texture coordinates (shade_stage.cpp's
-// pbrKernelLightweight); the general kernel and the textured glTF one launch
-// heavyweight (device.h).
-bool shadeLaunchesLightweight(const ShadeParams& p, int samples, bool sceneHasUV);
+// sample); the general kernel launches heavyweight (device.h).
+bool shadeLaunchesLightweight(const ShadeParams& p, int samples);
 
 }  // namespace rast

@@ -301,9 +301,9 @@ struct Shade {
   // file): a material's textures, its coordinates, normal maps, and the
   // fragment's colour, with the scene's features fixed at compile time
   // (kFeat, PbrFeature) or read at run time (kPbrAny).
-  KOKKOS_INLINE_FUNCTION float4 sampleTexture(const TextureGPU& tex, float2 uv, const DView<float>& decode, float2 dx,
+  RAST_GPU_INLINE float4 sampleTexture(const TextureGPU& tex, float2 uv, DecodeTable decode, float2 dx,
                                               float2 dy) const;
-  KOKKOS_INLINE_FUNCTION float4 sampleMaterial(int32_t t, float2 uv, const DView<float>& decode, float2 dx,
+  RAST_GPU_INLINE float4 sampleMaterial(int32_t t, float2 uv, DecodeTable decode, float2 dx,
                                                float2 dy) const;
   // A set of texture coordinates at a fragment: the point, its derivatives
   // one pixel right and up (when the filter takes them) and the triangle's
@@ -314,17 +314,17 @@ struct Shade {
   };
   KOKKOS_INLINE_FUNCTION static UvSet uvSet(float2 t0, float2 t1, float2 t2, const float b[3], const float bx[3],
                                             const float by[3], bool derivatives);
-  KOKKOS_INLINE_FUNCTION float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
+  RAST_GPU_INLINE float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
                                              float3 N, bool back, const UvSet& c) const;
-  KOKKOS_INLINE_FUNCTION PbrTri pbrTri(const TriFrag& f) const;
+  RAST_GPU_INLINE PbrTri pbrTri(const TriFrag& f) const;
   template <int kFeat = kPbrAny>
-  KOKKOS_INLINE_FUNCTION float4 shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
+  RAST_GPU_INLINE float4 shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
                                          int32_t oy, float b0, float b1, float b2, float3 N, const float3& P) const;
   // The occlusion texture's factor on indirect light, and the emitted light,
   // of a fragment of material m (the glTF shading and its debug views).
-  KOKKOS_INLINE_FUNCTION float occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+  RAST_GPU_INLINE float occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
                                            const UvSet& c1) const;
-  KOKKOS_INLINE_FUNCTION float3 emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
+  RAST_GPU_INLINE float3 emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
                                            const UvSet& c1) const;
   // One directional light L of intensity I: Lambert's term, and Blinn-Phong's
   // highlight in that mode.

@@ -34,28 +34,23 @@ struct DepthRange {
 // with one sample a pixel and runs of one pixel.
 bool interleavedLayout(int run, int samples) { return kShadeInterleave > 1 && run == 1 && samples == 1; }
 
-// Whether the glTF shading's kernel for the features kFeat launches
-// lightweight on a GPU, as the lit kernel does (its functor in the kernel's
-// parameters, its frames replayed from a recording: backends/frame_graphs.h).
-// Only where nvcc inlines all of it: a call left out of line copies the 2.2 KB
-// functor to every thread's stack (docs/cuda.md). The CUDA 11.8 build of
-// 307350b for sm_90 (`cuobjdump -res-usage`, launched lightweight): STACK 0
-// or 32 bytes for the instances without texture coordinates, 2,416 to 2,440
-// with them (the texture samplers stay out of line). So the textured ones
-// launch heavyweight, as the general kernel does. Host backends ignore the hint.
-constexpr bool pbrKernelLightweight(int feat) { return (feat & shading::kPbrTextured) == 0; }
-
 // The glTF shading's kernel (pbr_fragment.h) for the scene's features,
 // compiled in the layout of the backend (rows on CPUs, columns on GPUs).
+// Every instance launches lightweight on a GPU, as the lit kernel does (its
+// functor in the kernel's parameters, its frames replayed from a recording:
+// backends/frame_graphs.h): nothing in them takes the functor's address,
+// which would make every thread copy the 2.2 KB functor to its stack first
+// (docs/cuda.md). The CUDA 11.8 build for sm_90 (`cuobjdump -res-usage`):
+// STACK 0 or 32 bytes for the instances without texture coordinates, 680 to
+// 696 for the textured ones (the register saves around their out-of-line
+// texture filter, RAST_GPU_NOINLINE in backends/flatten.h; 2,416 to 2,440
+// when references to the functor's views and the size of the inlined
+// filter had nvcc copy the functor, and they launched heavyweight).
 template <int kFeat>
 void launchPbrWith(const Shade& k, const Range& items) {
   using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;
   const Bounded policy(items.begin(), items.end());
-  const shading::ShadePbr<kFeat, kOnDevice> kernel{k};
-  if constexpr (pbrKernelLightweight(kFeat))
-    Kokkos::parallel_for("rast::shade::pbr", lightweight(policy), kernel);
-  else
-    Kokkos::parallel_for("rast::shade::pbr", heavyweight(policy), kernel);
+  Kokkos::parallel_for("rast::shade::pbr", lightweight(policy), shading::ShadePbr<kFeat, kOnDevice>{k});
 }
 
 void launchPbr(const Shade& k, const Range& items) {
@@ -182,13 +177,12 @@ shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParam
   return k;
 }
 
-bool shadeLaunchesLightweight(const ShadeParams& p, int samples, bool sceneHasUV) {
+bool shadeLaunchesLightweight(const ShadeParams& p, int samples) {
   shading::Shade k{};
   k.p = p;
   k.run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
   const bool interleaved = interleavedLayout(k.run, samples);
-  return (interleaved && k.litOnly() && !testHooks().generalShade) ||
-         (pbrKernelLightweight(sceneHasUV ? shading::kPbrTextured : 0) && takesPbrKernel(p, samples, interleaved));
+  return (interleaved && k.litOnly() && !testHooks().generalShade) || takesPbrKernel(p, samples, interleaved);
 }
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "backends/fast_floor.h"
+#include "backends/flatten.h"
 #include "base/color.h"
 #include "pipeline/data/gpu_types.h"
 #include "host/scene/scene.h"
@@ -31,6 +32,21 @@ KOKKOS_INLINE_FUNCTION float reduceCoord(float u, int32_t mode) {
   if (mode == WrapClamp) return u < -1.0f ? -1.0f : (u > 2.0f ? 2.0f : u);
   return u - 2.0f * floorTexel(u * 0.5f);
 }
+
+// The texels and a decode table (the sRGB one for colour textures, the unorm
+// one for data) by their addresses, passed by value. The samplers below are
+// large, and a GPU compiler may leave them out of line; called with
+// references to a kernel functor's views, that call would take the address
+// of the functor, which a GPU then copies (2.4 KB for the glTF shading's)
+// from the kernel's parameters to every thread's stack first.
+struct TexelTable {
+  const uint32_t* t;
+  KOKKOS_INLINE_FUNCTION uint32_t operator()(uint32_t i) const { return t[i]; }
+};
+struct DecodeTable {
+  const float* t;
+  KOKKOS_INLINE_FUNCTION float operator()(uint32_t i) const { return t[i]; }
+};
 
 template <class Texels, class Lut>
 KOKKOS_INLINE_FUNCTION float4 fetchTexel(const TextureGPU& t, const Texels& texels, const Lut& lut, int32_t x,
@@ -131,10 +147,13 @@ KOKKOS_INLINE_FUNCTION float4 sampleSamplerAt(const TextureGPU& t, const Texels&
 // between levels (as the Khronos Sample Renderer asks WebGL for, 16x): up to
 // maxAniso taps along the footprint's longer axis, each at the level of detail
 // of its length divided by the taps (the usual approximation of the
-// footprint, EXT_texture_filter_anisotropic's), averaged.
+// footprint, EXT_texture_filter_anisotropic's), averaged. Out of line on GPUs
+// (RAST_GPU_NOINLINE): inlined at each of the glTF shading's texture lookups,
+// it made that kernel too large for nvcc to inline whole (the isotropic part
+// alone too: STACK 2,728 bytes, the functor copied).
 template <class Texels, class Lut>
-KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
-                                            float2 dx, float2 dy, int32_t maxAniso) {
+RAST_GPU_NOINLINE float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
+                                       float2 dx, float2 dy, int32_t maxAniso) {
   constexpr int32_t kNearest = 9728, kNearestMipLinear = 9986;
   const float ax = dx.x * float(t.width), bx = dx.y * float(t.height), ay = dy.x * float(t.width), by = dy.y * float(t.height);
   const float rx = ax * ax + bx * bx, ry = ay * ay + by * by;
