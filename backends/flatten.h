@@ -4,13 +4,13 @@
 // long as the glTF shading's (pipeline/shade/pbr_fragment.h: on duck, 1080p,
 // calls to the BRDF, the barycentrics, the sRGB encoder and the texture
 // coordinates cost about 300 instructions a fragment in their calls,
-// arguments and lost common subexpressions). GPU compilers inline the
-// device functions inside of their own accord; there it forces the
-// operator() itself into Kokkos' launch wrapper: nvcc left the textured
-// instances' operator() out of line, and the call's `this` made every thread
-// copy the 2.4 KB functor from the kernel's parameters to its stack first
-// (`cuobjdump -res-usage`: STACK 2,416 bytes), which kept them from launching
-// lightweight (pipeline/shade/shade_stage.cpp).
+// arguments and lost common subexpressions). On GPUs it asks for the
+// operator() to be inlined into Kokkos' launch wrapper: a kernel body left
+// out of line is called with the functor's address, and a kernel launched
+// lightweight then copies its whole functor from the kernel's parameters to
+// every thread's stack first (2.4 KB for the glTF shading's: `cuobjdump
+// -res-usage` STACK 2,416 bytes; what keeps the body small enough for nvcc
+// to inline, see RAST_GPU_NOINLINE below).
 #pragma once
 
 #include <Kokkos_Core.hpp>
