@@ -154,8 +154,8 @@ class Renderer {
   uint32_t frameNumber_ = 0;  // FrameUniforms::frame of the last frame
   std::vector<mat4f> upload_;  // the frame's upload (FrameUniforms, draws' MVPs), host side
   bool supersampling_ = false;
-  bool blendFallback_ = false;  // the exact fragment store would exceed the budget: kbuffer (lastFrameFit)
-  uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame stored  // inside renderSupersampled: passes shade to the film, no post chain
+  bool blendFallback_ = false;  // the exact tile lists would exceed the budget: kbuffer (lastFrameFit)
+  uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame composited  // inside renderSupersampled: passes shade to the film, no post chain
   std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
 
   AutoStats autoStats_;  // what `auto` decides from (frame_plan.h)
