@@ -39,26 +39,33 @@ constexpr int kPeelCache = kOnDevice ? 1 : kPeelK;
 using PeelCache = FragCacheOf<kPeelCache>;
 constexpr uint64_t kNoKey = ~uint64_t(0);
 
-// Whether the triangle with edges e covers no sample of the pixels
-// [x0, x1] x [y0, y1]: some edge is not positive (with its bias) at every
-// sample of the four corner pixels. The edge functions are linear and a
-// sample's offset is the same in every pixel, so it is then not positive at
-// any sample between: exact, no fragment is lost.
-KOKKOS_INLINE_FUNCTION bool blockMissed(const Edges& e, const SamplePattern& sp, int32_t x0, int32_t x1, int32_t y0,
-                                        int32_t y1) {
-  for (int i = 0; i < 3; ++i) {
-    const int64_t c[4] = {e.eval(i, x0, y0), e.eval(i, x1, y0), e.eval(i, x0, y1), e.eval(i, x1, y1)};
-    bool out = true;
-    for (int k = 0; k < 4 && out; ++k)
-      for (int s = 0; s < sp.count && out; ++s) out = e.atSample(i, c[k], sp.ox[s], sp.oy[s]) + e.bias[i] <= 0;
-    if (out) return true;
-  }
+// A listed triangle's set-up for its items: edges, box, and per edge the
+// largest step from a pixel centre to one of its samples, with the bias.
+struct ItemTri {
+  uint32_t index = ~0u;
+  Edges e{};
+  ItemBox b{};
+  int64_t reach[3] = {0, 0, 0};
+};
+
+// Whether the triangle covers no sample of the pixels [x0, x1] x [y0, y1]:
+// some edge is not positive (with its bias) at any of their samples. An edge
+// function is linear: its largest value over the pixel centres is at the
+// corner its signs point to, and a sample adds the same offset in every
+// pixel, so the largest over the samples is that corner's value plus the
+// edge's largest offset (reach): exact, no fragment is lost.
+KOKKOS_INLINE_FUNCTION bool blockMissed(const ItemTri& it, int32_t x0, int32_t x1, int32_t y0, int32_t y1) {
+  for (int i = 0; i < 3; ++i)
+    if (it.e.eval(i, it.e.A[i] > 0 ? x1 : x0, it.e.B[i] > 0 ? y1 : y0) + it.reach[i] <= 0) return true;
   return false;
 }
 
 // tiles_count (pass 0) and tiles_fill (pass 1): each BLEND work item whose
 // triangle covers a sample of its block, counted into the block's count, then
 // written at its block's cursor (tileEnd, the scan's start before the fill).
+// A GPU thread takes every threads-th item (neighbouring threads, neighbouring
+// items); a CPU thread a contiguous share, so that its items' owner is found
+// by stepping and set up once per triangle.
 struct TileItems {
   DView<RasterTri> tris;
   DView<uint64_t> start, totals;
@@ -67,27 +74,57 @@ struct TileItems {
   uint32_t capacity, threads, blocksX;
   uint64_t tileCapacity;
   int32_t fill;
+  KOKKOS_INLINE_FUNCTION void prepare(uint32_t i, ItemTri& it) const {
+    const RasterTri& t = tris(i);
+    it.index = i;
+    it.e = Edges(t);
+    it.b = itemBox(t, vp);
+    const SamplePattern& sp = vp.samples;
+    for (int k = 0; k < 3; ++k) {
+      int64_t m = it.e.atSample(k, 0, sp.ox[0], sp.oy[0]);
+      for (int s = 1; s < sp.count; ++s) {
+        const int64_t v = it.e.atSample(k, 0, sp.ox[s], sp.oy[s]);
+        m = v > m ? v : m;
+      }
+      it.reach[k] = m + it.e.bias[k];
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void item(uint64_t w, const ItemTri& it) const {
+    const ItemBox& b = it.b;
+    const uint32_t local = uint32_t(w - start(it.index));
+    const int32_t bx = b.bx0 + int32_t(local % uint32_t(b.bw)), by = b.by0 + int32_t(local / uint32_t(b.bw));
+    const int32_t x0 = b.minX > (bx << kItemShift) ? b.minX : (bx << kItemShift);
+    const int32_t x1 = b.maxX < ((bx + 1) << kItemShift) - 1 ? b.maxX : ((bx + 1) << kItemShift) - 1;
+    const int32_t y0 = b.minY > (by << kItemShift) ? b.minY : (by << kItemShift);
+    const int32_t y1 = b.maxY < ((by + 1) << kItemShift) - 1 ? b.maxY : ((by + 1) << kItemShift) - 1;
+    if (blockMissed(it, x0, x1, y0, y1)) return;
+    const uint32_t block = uint32_t(by) * blocksX + uint32_t(bx);
+    if (!fill) {
+      Kokkos::atomic_fetch_add(&tileCount(block), 1u);
+      return;
+    }
+    const uint32_t slot = Kokkos::atomic_fetch_add(&tileEnd(block), 1u);
+    if (slot < tileCapacity) tileTris(slot) = it.index;  // else the frame is drawn again with more room (lastFrameFit)
+  }
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t th) const {
     const uint64_t total = totals(kBlendItems);
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
-    for (uint64_t w = th; w < total; w += threads) {
-      const uint32_t i = itemOwner(start, n, w);
-      const RasterTri& t = tris(i);
-      const ItemBox b = itemBox(t, vp);
-      const uint32_t local = uint32_t(w - start(i));
-      const int32_t bx = b.bx0 + int32_t(local % uint32_t(b.bw)), by = b.by0 + int32_t(local / uint32_t(b.bw));
-      const int32_t x0 = b.minX > (bx << kItemShift) ? b.minX : (bx << kItemShift);
-      const int32_t x1 = b.maxX < ((bx + 1) << kItemShift) - 1 ? b.maxX : ((bx + 1) << kItemShift) - 1;
-      const int32_t y0 = b.minY > (by << kItemShift) ? b.minY : (by << kItemShift);
-      const int32_t y1 = b.maxY < ((by + 1) << kItemShift) - 1 ? b.maxY : ((by + 1) << kItemShift) - 1;
-      if (blockMissed(Edges(t), vp.samples, x0, x1, y0, y1)) continue;
-      const uint32_t block = uint32_t(by) * blocksX + uint32_t(bx);
-      if (!fill) {
-        Kokkos::atomic_fetch_add(&tileCount(block), 1u);
-        continue;
+    ItemTri it;
+    if (kOnDevice) {
+      for (uint64_t w = th; w < total; w += threads) {
+        const uint32_t i = itemOwner(start, n, w);
+        if (i != it.index) prepare(i, it);
+        item(w, it);
       }
-      const uint32_t slot = Kokkos::atomic_fetch_add(&tileEnd(block), 1u);
-      if (slot < tileCapacity) tileTris(slot) = i;  // else the frame is drawn again with more room (lastFrameFit)
+      return;
+    }
+    const uint64_t share = (total + threads - 1) / threads, w0 = share * th;
+    const uint64_t w1 = w0 + share < total ? w0 + share : total;
+    uint32_t i = w0 < w1 ? itemOwner(start, n, w0) : 0;
+    for (uint64_t w = w0; w < w1; ++w) {
+      while (i + 1 < n && start(i + 1) <= w) ++i;  // itemOwner's answer, stepping
+      if (i != it.index) prepare(i, it);
+      item(w, it);
     }
   }
 };
@@ -220,13 +257,15 @@ struct Peel {
             frags += cnt[r];
             if (cnt[r] > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt[r]));
           }
-          // Front to back, the nearest taken from the front of the array and
-          // the rest shifted up (compile-time indices, one shading call).
+          // Front to back: on a GPU the nearest taken from the front of the
+          // array and the rest shifted up (compile-time indices, one shading
+          // call); a CPU indexes the array.
           const uint64_t lastKey = best[r][kPeelK - 1];
           const int kept = cnt[r] < uint32_t(kPeelK) ? int(cnt[r]) : kPeelK;
           for (int k = 0; k < kept && T[r] > 0.0f; ++k) {
-            const uint64_t key = best[r][0];
-            for (int m = 0; m + 1 < kPeelK; ++m) best[r][m] = best[r][m + 1];
+            const uint64_t key = best[r][kOnDevice ? 0 : k];
+            if (kOnDevice)
+              for (int m = 0; m + 1 < kPeelK; ++m) best[r][m] = best[r][m + 1];
             const float4 c = cache.at(fs, keyIndex(key, sorted != 0), x0 + r, Y, s);
             if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
           }

@@ -89,12 +89,21 @@ template <int N>
 struct FragCacheOf {
   AlphaTri a[N];
   TriFrag tf[N];
-  int next = 0;
+  int next = 0, hint = 0;
+  // The entry of `index`, else the oldest. Pixels side by side composite
+  // the same triangles in the same order: the entry after the last one used
+  // is tried first.
   KOKKOS_INLINE_FUNCTION int slot(uint32_t index) {
-    for (int k = 0; k < N; ++k)
-      if (a[k].index == index) return k;
-    const int k = next;
-    next = next + 1 == N ? 0 : next + 1;
+    int k = hint;
+    if (a[k].index != index) {
+      for (k = 0; k < N && a[k].index != index; ++k) {
+      }
+      if (k == N) {
+        k = next;
+        next = next + 1 == N ? 0 : next + 1;
+      }
+    }
+    hint = k + 1 == N ? 0 : k + 1;
     return k;
   }
   KOKKOS_INLINE_FUNCTION float4 at(const FragShade& fs, uint32_t index, int32_t X, int32_t Y, int s) {
