@@ -229,7 +229,11 @@ struct Peel {
           cnt[r] = 0;
           for (int k = 0; k < kPeelK; ++k) best[r][k] = kNoKey;
         }
-        for (uint32_t j = begin; j < end; ++j) {
+        // Last entry first: a list is roughly in submission order, and
+        // transparent draws are mostly submitted back to front, so that the
+        // nearest keys come first and a key rarely moves the ones held (on a
+        // CPU, an insertion shifts the larger keys up).
+        for (uint32_t j = end; j-- > begin;) {
           const uint32_t i = tileTris(j);
           const RasterTri& t = fs.sc.tris(i);
           const Edges e(t);
