@@ -1,5 +1,5 @@
-// The exact and sorted BLEND methods (docs/transparency.md, "Tile lists and
-// peeling in registers"): no fragment is stored. Before shading (the opaque
+// The exact and sorted BLEND methods (docs/transparency.md, "exact and sorted:
+// tile lists, peeled in registers"): no fragment is stored. Before shading (the opaque
 // depth is still in the visibility buffer):
 //   tiles_count, tiles_layout, tiles_fill: a counted two-pass layout of the
 //     BLEND work items (raster triangle, 8x8 block): per block the list of

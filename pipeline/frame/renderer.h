@@ -33,8 +33,9 @@ struct FrameStats {
   size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)
   size_t filmBytes = 0;       // the float film and post buffers (0 when no float path ran)
   // BLEND surfaces (docs/transparency.md): the method used, whether the exact
-  // store would have exceeded the memory budget (then kbuffer was used), the
-  // fragments stored and the most of one sample (exact and sorted).
+  // method's tile lists would have exceeded the memory budget (then kbuffer
+  // was used), the fragments in front of the opaque depth (alpha 0 ones
+  // included) and the most of one sample (exact and sorted).
   Transparency transparency = Transparency::Exact;
   bool blendFallback = false;
   uint64_t blendFragments = 0, blendMaxDepth = 0;
