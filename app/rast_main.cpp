@@ -291,8 +291,8 @@ int cmdRender(const SceneOptions& so, const std::string& out, const std::vector<
     }
     if (sortLast) st.trianglesIn = uint32_t(loaded.trianglesAll);
     if (st.blendFallback)
-      std::fprintf(stderr, "rast: note: storing every BLEND fragment (%llu) would exceed the memory budget: drawn "
-                           "with --transparency kbuffer (k %d) instead\n", (unsigned long long)st.blendFragments, rs.blendK);
+      std::fprintf(stderr, "rast: note: the tile lists of exact transparency would exceed the memory budget: drawn "
+                           "with --transparency kbuffer (k %d) instead\n", rs.blendK);
     std::printf("rast: wrote %s (%dx%d, %u triangles, %u rasterised%s, method %s, aa %s)\n", printable(o).c_str(), rs.width,
                 rs.height, st.trianglesIn, st.rasterTris, sortLast ? " on rank 0" : "", toString(st.method),
                 aaName(rs).c_str());

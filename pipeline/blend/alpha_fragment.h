@@ -99,11 +99,14 @@ struct AlphaScene {
   // for both), the texture sampled nearest or bilinear (level 0): as --filter
   // says, or under --filter auto (nearest == 2) as the texture's glTF sampler
   // magnifies (a MASK texture filtered nearest cuts along its texels).
+  // (A material's constant alpha skips the barycentrics: the BLEND resolve
+  // takes a fragment's alpha as often as its colour.)
   KOKKOS_INLINE_FUNCTION float alphaAt(const AlphaTri& a, int64_t E0, int64_t E1, int64_t E2) const {
+    float alpha = a.alpha;
+    if (!a.textured && !hasColor) return cleanAlpha(alpha);
     float b1, b2;
     drawnBarycentrics(E0, E1, E2, a.invArea, a.invW, a.corner, perspective != 0, b1, b2);
     const float b0 = 1.0f - b1 - b2;
-    float alpha = a.alpha;
     if (a.textured) {
       const float u = a.uv[0].x * b0 + a.uv[1].x * b1 + a.uv[2].x * b2;
       const float v = a.uv[0].y * b0 + a.uv[1].y * b1 + a.uv[2].y * b2;

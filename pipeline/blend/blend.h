@@ -6,7 +6,8 @@
 //     the visibility buffer with the same keys and atomic minimum as the
 //     raster methods: a discarded fragment never wins, whatever the method.
 //   * blendCollect (before shading: it reads the opaque depth) and blendResolve
-//     (after it: composites over the shaded opaque colour in the float film).
+//     (after it: composites over the shaded opaque colour in the float film);
+//     exact and sorted: tile lists and peeling in registers (blend_tiles.cpp).
 #pragma once
 
 #include "pipeline/shade/shade.h"
@@ -27,9 +28,10 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                   const BlendPlan& b);
 
-// Device bytes per sample of a method's fixed buffers (counts, k-buffer,
-// weighted sums), and per fragment of the exact store: for the memory budget.
+// Device bytes per sample of a method's fixed buffers (opaque depth and
+// block counts, k-buffer, weighted sums), and per entry of the exact and
+// sorted methods' tile lists (grown to the frame's need): for the memory budget.
 uint64_t blendBytesPerSample(const BlendPlan& b);
-constexpr uint64_t kBytesPerFragment = sizeof(uint64_t);
+constexpr uint64_t kBytesPerListEntry = sizeof(uint32_t);
 
 }  // namespace rast

@@ -1,6 +1,6 @@
 // The buffers of the transparency passes (pipeline/blend/, docs/transparency.md):
-// the per-class work lists of MASK and BLEND raster triangles, the exact
-// method's fragment store, the k-buffer and the weighted method's sums. Each
+// the per-class work lists of MASK and BLEND raster triangles, the exact and
+// sorted methods' tile lists, the k-buffer and the weighted method's sums. Each
 // is allocated the first time a frame needs it and grown (never capped); a
 // scene without MASK or BLEND materials allocates none of them.
 #pragma once
@@ -14,19 +14,22 @@ namespace rast {
 enum BlendTotal : int {
   kMaskItems = 0,     // work items (8x8 blocks) of the MASK raster triangles
   kBlendItems = 1,    // work items of the BLEND raster triangles
-  kBlendFrags = 2,    // fragments the exact (and sorted) methods kept this frame
+  kBlendFrags = 2,    // exact and sorted: fragments in front of the opaque depth this frame
   kBlendMaxDepth = 3, // most fragments of one sample (the depth complexity `auto` reads)
-  kNumBlendTotals = 4
+  kBlendListed = 4,   // entries of the tile lists this frame (their need)
+  kNumBlendTotals = 5
 };
 
 struct BlendBuffers {
   DView<uint64_t> totals;            // BlendTotal
   DView<uint64_t> maskStart, blendStart;  // per raster triangle: its first work item (exclusive scan)
-  // exact / sorted: per sample the fragment count, and its end in `frags`
-  // after the write pass (start = end - count)
-  DView<uint32_t> count, end;
-  DView<uint64_t> frags;             // per fragment: sort key (depth or order << 32 | raster index + 1)
-  uint64_t fragCapacity = 0;
+  // exact / sorted (blend_tiles.cpp): per 8x8 block the count of its list,
+  // and its end in `tileTris` after the fill (start = end - count); the
+  // lists (raster triangle indices, 4 bytes an entry, grown to the frame's
+  // need by Renderer::lastFrameFit); per sample the opaque depth's bits
+  // (shading clears the visibility buffer before the resolve reads them)
+  DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
+  uint64_t tileCapacity = 0;
   // kbuffer: k keys per sample, nearest first
   DView<uint64_t> slots;
   int k = 0;
@@ -37,8 +40,8 @@ struct BlendBuffers {
 
   void release() { *this = BlendBuffers(); }
   size_t bytes() const {
-    return viewBytes(totals) + viewBytes(maskStart) + viewBytes(blendStart) + viewBytes(count) + viewBytes(end) +
-           viewBytes(frags) + viewBytes(slots) + viewBytes(accum) + viewBytes(reveal);
+    return viewBytes(totals) + viewBytes(maskStart) + viewBytes(blendStart) + viewBytes(tileCount) + viewBytes(tileEnd) +
+           viewBytes(tileTris) + viewBytes(opaque) + viewBytes(slots) + viewBytes(accum) + viewBytes(reveal);
   }
 };
 

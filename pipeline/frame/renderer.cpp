@@ -391,29 +391,39 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
     fit = false;
   }
-  // The exact store of BLEND fragments: grown to the frame's need, or, when
-  // that would exceed the budget, the frame is drawn with kbuffer instead
-  // (FrameStats::blendFallback says so).
+  // The exact and sorted methods' tile lists: grown to the frame's need, or,
+  // when that would exceed the budget, the frame is drawn with kbuffer
+  // instead (FrameStats::blendFallback says so), whose fixed buffers must fit.
   if (fit && plan_.blend.blend) {
     auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.blend.totals);
-    const bool stored = plan_.blend.method == Transparency::Exact || plan_.blend.method == Transparency::Sorted;
-    if (stored) blendNeed_ = t(kBlendFrags);
+    const bool listed = plan_.blend.method == Transparency::Exact || plan_.blend.method == Transparency::Sorted;
+    if (listed) blendNeed_ = t(kBlendFrags);
     if (stats) {
-      stats->blendFragments = blendNeed_;  // kbuffer and weighted count none: the last store's need
+      stats->blendFragments = blendNeed_;  // kbuffer and weighted count none: the last exact frame's
       stats->blendMaxDepth = t(kBlendMaxDepth);
       stats->transparency = plan_.blend.method;
       stats->blendFallback = blendFallback_;
     }
-    if (stored && t(kBlendFrags) > frame_.blend.fragCapacity) {
-      const uint64_t need = t(kBlendFrags) + t(kBlendFrags) / 8;
+    if (listed && t(kBlendListed) > frame_.blend.tileCapacity) {
+      const uint64_t need = t(kBlendListed) + t(kBlendListed) / 8;
       MemoryLedger ledger(budget_);
-      ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.blend.frags));
-      if (need < (uint64_t(1) << 32) && addSat(ledger.used(), mulSat(need, kBytesPerFragment)) <= ledger.limit()) {
-        frame_.blend.frags = DView<uint64_t>();
-        frame_.blend.fragCapacity = need;
-        frame_.blend.frags = allocUninit<uint64_t>("blend.frags", need);
+      ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.blend.tileTris));
+      if (need < (uint64_t(1) << 32) && addSat(ledger.used(), mulSat(need, kBytesPerListEntry)) <= ledger.limit()) {
+        frame_.blend.tileTris = DView<uint32_t>();
+        frame_.blend.tileCapacity = need;
+        frame_.blend.tileTris = allocUninit<uint32_t>("blend.tileTris", need);
       } else {
         blendFallback_ = true;
+        frame_.blend.tileTris = frame_.blend.tileCount = frame_.blend.tileEnd = frame_.blend.opaque = DView<uint32_t>();
+        frame_.blend.tileCapacity = 0;
+        BlendPlan k = plan_.blend;
+        k.method = Transparency::KBuffer;
+        MemoryLedger held(budget_);
+        held.charge("the scene and frame buffers", deviceBytes());
+        held.check("the k-buffer that replaces the transparency's tile lists (" + std::to_string(need) +
+                         " entries do not fit)",
+                     mulSat(uint64_t(frame_.vp.width) * uint64_t(frame_.vp.height) * uint64_t(frame_.vp.samples.count),
+                            blendBytesPerSample(k)));
       }
       fit = false;
     }

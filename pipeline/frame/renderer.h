@@ -33,8 +33,9 @@ struct FrameStats {
   size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)
   size_t filmBytes = 0;       // the float film and post buffers (0 when no float path ran)
   // BLEND surfaces (docs/transparency.md): the method used, whether the exact
-  // store would have exceeded the memory budget (then kbuffer was used), the
-  // fragments stored and the most of one sample (exact and sorted).
+  // method's tile lists would have exceeded the memory budget (then kbuffer
+  // was used), the fragments in front of the opaque depth (alpha 0 ones
+  // included) and the most of one sample (exact and sorted).
   Transparency transparency = Transparency::Exact;
   bool blendFallback = false;
   uint64_t blendFragments = 0, blendMaxDepth = 0;
@@ -154,8 +155,8 @@ class Renderer {
   uint32_t frameNumber_ = 0;  // FrameUniforms::frame of the last frame
   std::vector<mat4f> upload_;  // the frame's upload (FrameUniforms, draws' MVPs), host side
   bool supersampling_ = false;
-  bool blendFallback_ = false;  // the exact fragment store would exceed the budget: kbuffer (lastFrameFit)
-  uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame stored  // inside renderSupersampled: passes shade to the film, no post chain
+  bool blendFallback_ = false;  // the exact tile lists would exceed the budget: kbuffer (lastFrameFit)
+  uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame composited  // inside renderSupersampled: passes shade to the film, no post chain
   std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
 
   AutoStats autoStats_;  // what `auto` decides from (frame_plan.h)

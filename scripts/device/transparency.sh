@@ -14,7 +14,8 @@ build=${1:?usage: transparency.sh BUILD_DIR OUTDIR}
 out=${2:?usage: transparency.sh BUILD_DIR OUTDIR}
 root=$(cd "$(dirname "$0")/../.." && pwd)
 mkdir -p "$out"
-ctest --test-dir "$build" -R "transparency" --output-on-failure > "$out/tests.log" 2>&1
+# The Catch2 cases are named "MASK: ...", "BLEND: ..." (tests/pipeline/test_transparency.cpp).
+ctest --test-dir "$build" -R "BLEND|MASK|transparency" --output-on-failure > "$out/tests.log" 2>&1
 echo "tests: rc $? (log in $out/tests.log)"
 python3 "$root/scripts/measure/bench_transparency.py" --rast "$build/rast" --out "$out/transparency_cuda.csv" \
   --size 1920x1080 --frames 50 --reference-grid 16

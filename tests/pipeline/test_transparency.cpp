@@ -1,8 +1,9 @@
 // glTF alpha modes (docs/transparency.md): MASK fragments below the cutoff
 // lose the depth test in every raster method; BLEND layers composite in
 // linear light, exactly for `exact`, with each approximate method's failure
-// pinned to its bound; an opaque scene allocates nothing for them; a store
-// over the memory budget falls back to kbuffer and says so.
+// pinned to its bound; more layers than a resolve pass keeps are peeled bit
+// for bit; an opaque scene allocates nothing for them; tile lists over the
+// memory budget fall back to kbuffer and say so.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -206,23 +207,62 @@ TEST_CASE("BLEND: each method's failure mode within its bound", "[transparency][
   }
 }
 
-TEST_CASE("BLEND: a store over the memory budget falls back to kbuffer and says so", "[transparency][blend]") {
-  const Scene s = builtinScene("builtin:layers?n=64&alpha=0.2");
-  RenderSettings rs = small(320, 180);
+TEST_CASE("BLEND exact: more layers than the keys a pass keeps are peeled, bit for bit", "[transparency][blend]") {
+  // 40 layers, mixed and intersecting: more than the K keys the resolve
+  // keeps per sample and pass (16 on a CPU, 8 on a GPU), so every sample is
+  // peeled in several passes over its block's list. The reference composites
+  // every fragment at once: kbuffer with k >= layers keeps them all, sorted
+  // by key, and merges nothing (the same "over" and fragment maths).
+  const Scene s = builtinScene("builtin:layers?n=40&mixed=1&cross=1");
+  for (int msaa : {1, 4}) {
+    INFO("msaa " << msaa);
+    RenderSettings rs = small();
+    rs.msaa = msaa;
+    rs.transparency = Transparency::Exact;
+    FrameStats st;
+    const std::vector<rast::float4> exact = film(s, rs, &st);
+    CHECK(st.blendMaxDepth > 16);  // peeled
+    RenderSettings k = rs;
+    k.transparency = Transparency::KBuffer;
+    k.blendK = 64;
+    CHECK(sameBits(exact, film(s, k)));
+  }
+}
+
+TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer and say so", "[transparency][blend]") {
+  {  // the statistics the tile lists' resolve reduces
+    const Scene s = builtinScene("builtin:layers?n=64&alpha=0.2");
+    RenderSettings rs = small(320, 180);
+    rs.transparency = Transparency::Exact;
+    FrameStats big;
+    film(s, rs, &big);
+    CHECK(big.transparency == Transparency::Exact);
+    CHECK(!big.blendFallback);
+    CHECK(big.blendFragments == uint64_t(320) * 180 * 64);  // every layer covers the frame
+    CHECK(big.blendMaxDepth == 64);
+  }
+  // 1024 layers over 128x64 pixels: 4 bytes a (layer, 8x8 block) make lists
+  // of about 600 KB, more than a k-buffer of one key (28 bytes a pixel,
+  // 230 KB). A budget a byte short of exact's need: the lists do not fit, the
+  // k-buffer does. (Opaque layers: exact stops after the first.)
+  const Scene s = builtinScene("builtin:layers?n=1024&alpha=1");
+  RenderSettings rs = small(128, 64);
   rs.transparency = Transparency::Exact;
-  FrameStats big, tight;
-  film(s, rs, &big);
-  CHECK(big.transparency == Transparency::Exact);
-  CHECK(!big.blendFallback);
-  CHECK(big.blendFragments == uint64_t(320) * 180 * 64);  // every layer covers the frame
-  CHECK(big.blendMaxDepth == 64);
-  // 16 MiB hold the scene and the frame but not 3.7 million fragments (29 MB).
-  const std::vector<rast::float4> f = film(s, rs, &tight, uint64_t(16) << 20);
-  CHECK(tight.blendFallback);
-  CHECK(tight.transparency == Transparency::KBuffer);
+  rs.blendK = 1;
+  FrameStats ex, kb, tight;
+  film(s, rs, &ex);
+  REQUIRE(!ex.blendFallback);
   RenderSettings k = rs;
   k.transparency = Transparency::KBuffer;
-  CHECK(maxDiff(f, film(s, k)) < 1e-5);  // the merged rest is summed with float atomics: any order
+  const std::vector<rast::float4> kbuf = film(s, k, &kb);
+  INFO("exact " << ex.deviceBytes << " bytes, kbuffer " << kb.deviceBytes);
+  REQUIRE(ex.deviceBytes > kb.deviceBytes + 100000);
+  const std::vector<rast::float4> f = film(s, rs, &tight, ex.deviceBytes - 1);
+  CHECK(tight.blendFallback);
+  CHECK(tight.transparency == Transparency::KBuffer);
+  CHECK(maxDiff(f, kbuf) < 1e-5);  // the merged rest is summed with float atomics: any order
+  // A budget that holds neither: one clear error, no silent cap.
+  CHECK_THROWS_AS(film(s, rs, nullptr, kb.deviceBytes - 100000), Error);
 }
 
 TEST_CASE("an opaque scene allocates nothing for transparency", "[transparency]") {

@@ -1,0 +1,341 @@
+// The exact and sorted BLEND methods (docs/transparency.md, "exact and sorted:
+// tile lists, peeled in registers"): no fragment is stored. Before shading (the opaque
+// depth is still in the visibility buffer):
+//   tiles_count, tiles_layout, tiles_fill: a counted two-pass layout of the
+//     BLEND work items (raster triangle, 8x8 block): per block the list of
+//     the triangles that cover a sample of it, 4 bytes an entry; an item whose
+//     triangle covers no sample of its block is left out (exact test on the
+//     block's corner samples). The order inside a list depends on the thread
+//     schedule; nothing below depends on it.
+//   opaque_depth: the opaque depth of every sample, which shading clears.
+// After shading, resolve: per sample, its block's list walked with the raster
+// methods' edge and depth arithmetic, LESS against the opaque depth; the K
+// smallest keys (visKey or sortedKey: unique) above the last pass's largest
+// are kept in a small sorted array and composited front to back ("over", as
+// kbuffer and the old fragment store did: the same bits); a sample with more
+// than K fragments, still not opaque, walks the list again from there (depth
+// peeling, in registers). A pass costs a walk of the list; a sample of L
+// layers takes ceil(L / K) passes until its transmittance reaches 0.
+#include "pipeline/blend/frag_shade.h"
+
+namespace rast {
+namespace blending {
+namespace {
+
+// Keys kept per pass and sample. On a GPU the array must stay in registers:
+// the insertion below indexes it only with compile-time indices (an unrolled
+// chain of compare-and-swap), 8 keys = 16 registers a thread on top of the
+// fragment shader's; 16 would halve the passes over deep lists at the cost
+// of occupancy (to be measured on the H100). A CPU lane holds 16.
+constexpr int kPeelK = kOnDevice ? 8 : 16;
+// Pixels a CPU thread resolves together along a row (one block's row: they
+// share the list, and each triangle's edges and depth terms are set up once
+// for all of them); a GPU thread resolves one pixel, a warp half a block (one
+// list: the same loop and loads for its 32 threads). A CPU thread takes a
+// whole block, one lookup cache of kPeelK triangles for its 8 rows: the
+// pixels of a row composite the same K triangles one after the other.
+constexpr int32_t kPeelRun = kOnDevice ? 1 : (1 << kItemShift);
+constexpr int kPeelCache = kOnDevice ? 1 : kPeelK;
+using PeelCache = FragCacheOf<kPeelCache>;
+constexpr uint64_t kNoKey = ~uint64_t(0);
+
+// A listed triangle's set-up for its items: edges, box, and per edge the
+// largest step from a pixel centre to one of its samples, with the bias.
+struct ItemTri {
+  uint32_t index = ~0u;
+  Edges e{};
+  ItemBox b{};
+  int64_t reach[3] = {0, 0, 0};
+};
+
+// Whether the triangle covers no sample of the pixels [x0, x1] x [y0, y1]:
+// some edge is not positive (with its bias) at any of their samples. An edge
+// function is linear: its largest value over the pixel centres is at the
+// corner its signs point to, and a sample adds the same offset in every
+// pixel, so the largest over the samples is that corner's value plus the
+// edge's largest offset (reach): exact, no fragment is lost.
+KOKKOS_INLINE_FUNCTION bool blockMissed(const ItemTri& it, int32_t x0, int32_t x1, int32_t y0, int32_t y1) {
+  for (int i = 0; i < 3; ++i)
+    if (it.e.eval(i, it.e.A[i] > 0 ? x1 : x0, it.e.B[i] > 0 ? y1 : y0) + it.reach[i] <= 0) return true;
+  return false;
+}
+
+// tiles_count (pass 0) and tiles_fill (pass 1): each BLEND work item whose
+// triangle covers a sample of its block, counted into the block's count, then
+// written at its block's cursor (tileEnd, the scan's start before the fill).
+// A GPU thread takes every threads-th item (neighbouring threads, neighbouring
+// items); a CPU thread a contiguous share, so that its items' owner is found
+// by stepping and set up once per triangle.
+struct TileItems {
+  DView<RasterTri> tris;
+  DView<uint64_t> start, totals;
+  DView<uint32_t> counters, tileCount, tileEnd, tileTris;
+  Viewport vp;
+  uint32_t capacity, threads, blocksX;
+  uint64_t tileCapacity;
+  int32_t fill;
+  KOKKOS_INLINE_FUNCTION void prepare(uint32_t i, ItemTri& it) const {
+    const RasterTri& t = tris(i);
+    it.index = i;
+    it.e = Edges(t);
+    it.b = itemBox(t, vp);
+    const SamplePattern& sp = vp.samples;
+    for (int k = 0; k < 3; ++k) {
+      int64_t m = it.e.atSample(k, 0, sp.ox[0], sp.oy[0]);
+      for (int s = 1; s < sp.count; ++s) {
+        const int64_t v = it.e.atSample(k, 0, sp.ox[s], sp.oy[s]);
+        m = v > m ? v : m;
+      }
+      it.reach[k] = m + it.e.bias[k];
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void item(uint64_t w, const ItemTri& it) const {
+    const ItemBox& b = it.b;
+    const uint32_t local = uint32_t(w - start(it.index));
+    const int32_t bx = b.bx0 + int32_t(local % uint32_t(b.bw)), by = b.by0 + int32_t(local / uint32_t(b.bw));
+    const int32_t x0 = b.minX > (bx << kItemShift) ? b.minX : (bx << kItemShift);
+    const int32_t x1 = b.maxX < ((bx + 1) << kItemShift) - 1 ? b.maxX : ((bx + 1) << kItemShift) - 1;
+    const int32_t y0 = b.minY > (by << kItemShift) ? b.minY : (by << kItemShift);
+    const int32_t y1 = b.maxY < ((by + 1) << kItemShift) - 1 ? b.maxY : ((by + 1) << kItemShift) - 1;
+    if (blockMissed(it, x0, x1, y0, y1)) return;
+    const uint32_t block = uint32_t(by) * blocksX + uint32_t(bx);
+    if (!fill) {
+      Kokkos::atomic_fetch_add(&tileCount(block), 1u);
+      return;
+    }
+    const uint32_t slot = Kokkos::atomic_fetch_add(&tileEnd(block), 1u);
+    if (slot < tileCapacity) tileTris(slot) = it.index;  // else the frame is drawn again with more room (lastFrameFit)
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t th) const {
+    const uint64_t total = totals(kBlendItems);
+    const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
+    ItemTri it;
+    if (kOnDevice) {
+      for (uint64_t w = th; w < total; w += threads) {
+        const uint32_t i = itemOwner(start, n, w);
+        if (i != it.index) prepare(i, it);
+        item(w, it);
+      }
+      return;
+    }
+    const uint64_t share = (total + threads - 1) / threads, w0 = share * th;
+    const uint64_t w1 = w0 + share < total ? w0 + share : total;
+    uint32_t i = w0 < w1 ? itemOwner(start, n, w0) : 0;
+    for (uint64_t w = w0; w < w1; ++w) {
+      while (i + 1 < n && start(i + 1) <= w) ++i;  // itemOwner's answer, stepping
+      if (i != it.index) prepare(i, it);
+      item(w, it);
+    }
+  }
+};
+
+// tiles_layout: exclusive scan of the block counts into tileEnd (the fill's
+// cursors), the 64-bit total into totals(kBlendListed): a total beyond any
+// capacity is seen as such and never wraps.
+struct TileScan {
+  DView<uint32_t> tileCount, tileEnd;
+  DView<uint64_t> totals;
+  uint32_t n;
+  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint64_t& upd, const bool final) const {
+    const uint32_t v = tileCount(i);
+    if (final) {
+      tileEnd(i) = uint32_t(upd);
+      if (i + 1 == n) totals(kBlendListed) = upd + v;
+    }
+    upd += v;
+  }
+};
+
+struct Peel {
+  FragShade fs;
+  DView<float4> hdr;
+  DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
+  DView<uint64_t> totals;
+  uint64_t tileCapacity;
+  int32_t width, height, blocksX, sorted;
+
+  // sorted's key: its triangle's, whatever the sample.
+  KOKKOS_INLINE_FUNCTION uint64_t sortedKeyOf(uint32_t i) const {
+    const AlphaScene& sc = fs.sc;
+    return fs.sortedKey(drawOf(sc.triDraw, sc.drawTriStart, sc.numDraws, sc.tris(i).prim), i);
+  }
+
+  // Keeps the kPeelK smallest keys seen, sorted, `held` of them so far
+  // (key is below best[kPeelK - 1]). On a GPU each step keeps the smaller of
+  // the two and carries the larger on (compile-time indices: registers); a
+  // CPU shifts the larger ones up from the end, as far as the key goes.
+  KOKKOS_INLINE_FUNCTION static void insert(uint64_t (&best)[kPeelK], uint64_t key, uint32_t held) {
+    if (kOnDevice) {
+#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
+#pragma unroll
+#endif
+      for (int k = 0; k < kPeelK; ++k) {
+        const uint64_t lo = key < best[k] ? key : best[k];
+        key = key < best[k] ? best[k] : key;
+        best[k] = lo;
+      }
+      return;
+    }
+    int k = held < uint32_t(kPeelK) ? int(held) : kPeelK - 1;
+    for (; k > 0 && best[k - 1] > key; --k) best[k] = best[k - 1];
+    best[k] = key;
+  }
+
+  // Work items: on a GPU one pixel, numbered 64 a block (block-major); on a
+  // CPU one block.
+  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item, uint64_t& frags) const {
+    const int64_t block = kPeelRun == 1 ? item >> (2 * kItemShift) : item;
+    const int32_t bx = int32_t(block % blocksX), by = int32_t(block / blocksX);
+    // A list that overflowed its capacity is not read: the frame is drawn again.
+    const bool listed = totals(kBlendListed) <= tileCapacity;
+    const uint32_t end = listed ? tileEnd(block) : 0u, begin = listed ? end - tileCount(block) : 0u;
+    PeelCache cache;
+    if (kPeelRun == 1) {
+      const int32_t p = int32_t(item & ((1 << (2 * kItemShift)) - 1));
+      const int32_t X = (bx << kItemShift) + (p & ((1 << kItemShift) - 1)), Y = (by << kItemShift) + (p >> kItemShift);
+      if (X < width && Y < height) row(X, Y, 1, begin, end, cache, frags);
+      return;
+    }
+    const int32_t x0 = bx << kItemShift, run = x0 + kPeelRun < width ? kPeelRun : width - x0;
+    for (int32_t Y = by << kItemShift; Y < ((by + 1) << kItemShift) && Y < height; ++Y)
+      row(x0, Y, run, begin, end, cache, frags);
+  }
+
+  // Pixels x0 .. x0 + run - 1 of row Y, whose block's list is [begin, end).
+  KOKKOS_INLINE_FUNCTION void row(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
+                                  const uint32_t end, PeelCache& cache, uint64_t& frags) const {
+    const int S = fs.sp.count;
+    float4 sum[kPeelRun];
+    for (int r = 0; r < kPeelRun; ++r) sum[r] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+    for (int s = 0; s < S; ++s) {
+      uint64_t best[kPeelRun][kPeelK];
+      uint64_t after[kPeelRun];
+      uint32_t cnt[kPeelRun], opq[kPeelRun];
+      float3 acc[kPeelRun];
+      float T[kPeelRun];
+      bool more[kPeelRun];
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        after[r] = 0;  // every key is above 0
+        acc[r] = float3{0.0f, 0.0f, 0.0f};
+        T[r] = 1.0f;
+        more[r] = end > begin;
+        opq[r] = opaque((int64_t(Y) * width + x0 + r) * S + s);
+      }
+      for (bool first = true;; first = false) {
+        bool any = false;
+        for (int r = 0; r < kPeelRun && r < run; ++r) any = any || more[r];
+        if (!any) break;
+        for (int r = 0; r < kPeelRun && r < run; ++r) {
+          cnt[r] = 0;
+          for (int k = 0; k < kPeelK; ++k) best[r][k] = kNoKey;
+        }
+        // Last entry first: a list is roughly in submission order, and
+        // transparent draws are mostly submitted back to front, so that the
+        // nearest keys come first and a key rarely moves the ones held (on a
+        // CPU, an insertion shifts the larger keys up).
+        for (uint32_t j = end; j-- > begin;) {
+          const uint32_t i = tileTris(j);
+          const RasterTri& t = fs.sc.tris(i);
+          const Edges e(t);
+          const DepthTerms dz(t);
+          const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+          const uint64_t triKey = sorted ? sortedKeyOf(i) : 0;
+          // The edge values at the run's first pixel's sample, then a step of
+          // A_i a pixel: exact integers, the values forItemSamples takes.
+          int64_t s0 = e.atSample(0, e.eval(0, x0, Y), ox, oy), s1 = e.atSample(1, e.eval(1, x0, Y), ox, oy),
+                  s2 = e.atSample(2, e.eval(2, x0, Y), ox, oy);
+          for (int r = 0; r < kPeelRun && r < run; ++r, s0 += e.A[0], s1 += e.A[1], s2 += e.A[2]) {
+            if (!more[r]) continue;
+            if (!e.inside(s0, s1, s2)) continue;
+            const float z = dz.at(s0, s2);
+            if (!(floatBits(z) < opq[r])) continue;  // LESS against the opaque depth
+            const uint64_t key = sorted ? triKey : visKey(z, i);
+            if (key <= after[r]) continue;  // composited by an earlier pass
+            if (key < best[r][kPeelK - 1]) insert(best[r], key, cnt[r]);
+            ++cnt[r];
+          }
+        }
+        for (int r = 0; r < kPeelRun && r < run; ++r) {
+          if (!more[r]) continue;
+          if (first) {  // the statistics: every fragment in front of the opaque depth
+            frags += cnt[r];
+            if (cnt[r] > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt[r]));
+          }
+          // Front to back: on a GPU the nearest taken from the front of the
+          // array and the rest shifted up (compile-time indices, one shading
+          // call); a CPU indexes the array.
+          const uint64_t lastKey = best[r][kPeelK - 1];
+          const int kept = cnt[r] < uint32_t(kPeelK) ? int(cnt[r]) : kPeelK;
+          for (int k = 0; k < kept && T[r] > 0.0f; ++k) {
+            const uint64_t key = best[r][kOnDevice ? 0 : k];
+            if (kOnDevice)
+              for (int m = 0; m + 1 < kPeelK; ++m) best[r][m] = best[r][m + 1];
+            const float4 c = cache.at(fs, keyIndex(key, sorted != 0), x0 + r, Y, s);
+            if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
+          }
+          more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
+          after[r] = lastKey;
+        }
+      }
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        const int64_t i = int64_t(Y) * width + x0 + r;
+        const float4 out = overOpaque(acc[r], T[r], hdr(i));
+        if (S == 1) {
+          hdr(i) = out;
+        } else {
+          sum[r] = sum[r] + out;
+          if (s + 1 == S) hdr(i) = sum[r] * (1.0f / float(S));
+        }
+      }
+    }
+  }
+};
+
+}  // namespace
+
+void tileLists(FrameBuffers& f) {
+  BlendBuffers& bb = f.blend;
+  const uint32_t blocksX = uint32_t(f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
+  const uint32_t blocks = blocksX * (uint32_t(f.vp.height + (1 << kItemShift) - 1) >> kItemShift);
+  const size_t n = size_t(f.vp.width) * size_t(f.vp.height) * size_t(f.vp.samples.count);
+  ensureCapacity(bb.tileCount, "blend.tileCount", blocks);
+  ensureCapacity(bb.tileEnd, "blend.tileEnd", blocks);
+  ensureCapacity(bb.opaque, "blend.opaque", n);
+  if (!bb.tileTris.data()) {
+    bb.tileCapacity = bb.tileCapacity ? bb.tileCapacity : blocks;  // one entry a block, then the frame's need
+    bb.tileTris = allocUninit<uint32_t>("blend.tileTris", bb.tileCapacity);
+  }
+  Kokkos::deep_copy(Exec(), Kokkos::subview(bb.tileCount, std::make_pair(size_t(0), size_t(blocks))), 0u);
+  const uint32_t threads = persistentThreads();
+  TileItems c{f.tris, bb.blendStart, bb.totals, f.counters, bb.tileCount, bb.tileEnd, bb.tileTris, f.vp,
+              f.triCapacity, threads, blocksX, bb.tileCapacity, 0};
+  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
+  Kokkos::parallel_for("rast::blend::tiles_count", Policy(0, threads), c);
+  Kokkos::parallel_scan("rast::blend::tiles_layout", Policy(0, blocks), TileScan{bb.tileCount, bb.tileEnd, bb.totals, blocks});
+  c.fill = 1;
+  Kokkos::parallel_for("rast::blend::tiles_fill", Policy(0, threads), c);
+  auto vis = f.vis;
+  auto opaque = bb.opaque;
+  Kokkos::parallel_for("rast::blend::opaque_depth", Range(0, int64_t(n)),
+                       KOKKOS_LAMBDA(const int64_t q) { opaque(q) = uint32_t(vis(q) >> 32); });
+}
+
+void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
+                 bool sorted) {
+  const BlendBuffers& bb = f.blend;
+  const int32_t blocksX = (f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
+  const int64_t blocks = int64_t(blocksX) * ((f.vp.height + (1 << kItemShift) - 1) >> kItemShift);
+  const int64_t items = kPeelRun == 1 ? blocks << (2 * kItemShift) : blocks;
+  // The fragment count summed over threads into totals(kBlendFrags), not
+  // one atomic a pixel; the depth's maximum (cleared with it by blendCollect)
+  // rises a few times a frame.
+  const Kokkos::Sum<uint64_t, Mem> result(Kokkos::View<uint64_t, Mem>(bb.totals.data() + kBlendFrags));
+  Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)),
+                          Peel{makeFragShade(s, f, p, lights), f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris,
+                               bb.opaque, bb.totals, bb.tileCapacity, f.vp.width, f.vp.height, blocksX,
+                               sorted ? 1 : 0},
+                          result);
+}
+
+}  // namespace blending
+}  // namespace rast
