@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""glTF files of transparent layers for comparing rast's BLEND methods with
+the Khronos glTF Sample Renderer (issue #39, docs/transparency.md): the
+built-in `builtin:layers` scenes are not exported with their BLEND materials
+(rast export writes stress scenes with the neutral matte material), so this
+writes the same kind of scene directly: an opaque red backdrop and n unlit
+BLEND quads of mixed colours and alphas in front of it, each quad its own
+node (the Sample Renderer sorts transparent primitives by their centre's
+depth, as `--transparency sorted` does), parallel, or with neighbours tilted
+opposite ways so that they intersect, or all at one depth (coplanar).
+
+  scripts/measure/blend_scenes.py OUT_DIR    # writes layers_{parallel,intersecting,coplanar}.gltf
+
+Then scripts/measure/pbr_fidelity.py --extra-flags "--transparency sorted"
+OUT_DIR/*.gltf compares rast with the reference. Standard library only.
+"""
+import base64
+import json
+import os
+import struct
+import sys
+
+HALF_W, HALF_H = 1.2, 0.9
+COLOURS = [(0.1, 0.3, 1.0), (0.1, 1.0, 0.2), (1.0, 0.9, 0.1), (0.9, 0.2, 0.9), (0.1, 0.9, 0.9),
+           (1.0, 0.5, 0.1), (0.5, 0.2, 1.0), (0.9, 0.9, 0.9)]
+
+
+def scene(n, tilt, equal):
+    pos, idx, nodes, meshes, materials, accessors, views = [], [], [], [], [], [], []
+    blob = bytearray()
+
+    def quad(z0, slope, half_w, half_h, colour, alpha, blend):
+        # Four corners, z = z0 + slope * x (a tilt about the vertical axis).
+        corners = [(-half_w, -half_h), (half_w, -half_h), (half_w, half_h), (-half_w, half_h)]
+        p = b"".join(struct.pack("<3f", x, y, z0 + slope * x) for x, y in corners)
+        i = struct.pack("<6H", 0, 1, 2, 0, 2, 3)
+        zs = [z0 + slope * x for x, _ in corners]
+        for data, count, kind, comp, extra in ((p, 4, "VEC3", 5126, {"min": [-half_w, -half_h, min(zs)],
+                                                                         "max": [half_w, half_h, max(zs)]}),
+                                                (i, 6, "SCALAR", 5123, {})):
+            while len(blob) % 4:
+                blob.append(0)
+            views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
+            blob.extend(data)
+            accessors.append({"bufferView": len(views) - 1, "componentType": comp, "count": count, "type": kind,
+                              **extra})
+        materials.append({"pbrMetallicRoughness": {"baseColorFactor": [*colour, alpha]},
+                          "alphaMode": "BLEND" if blend else "OPAQUE", "doubleSided": True,
+                          "extensions": {"KHR_materials_unlit": {}}})
+        meshes.append({"primitives": [{"attributes": {"POSITION": len(accessors) - 2}, "indices": len(accessors) - 1,
+                                       "material": len(materials) - 1}]})
+        nodes.append({"mesh": len(meshes) - 1})
+
+    quad(-1.0, 0.0, HALF_W * 1.5, HALF_H * 1.5, (1.0, 0.0, 0.0), 1.0, False)  # the backdrop
+    for layer in range(n):  # back to front, as builtin:layers submits them
+        z = 0.0 if equal else -0.9 * (n - 1 - layer) / n
+        slope = (0.08 if layer % 2 else -0.08) if tilt else 0.0
+        alpha = 0.3 + 0.5 * ((layer * 3) % 7) / 6.0
+        quad(z, slope, HALF_W, HALF_H, COLOURS[layer % len(COLOURS)], alpha, True)
+    return {"asset": {"version": "2.0", "generator": "rast scripts/measure/blend_scenes.py"},
+            "extensionsUsed": ["KHR_materials_unlit"], "scene": 0,
+            "scenes": [{"nodes": list(range(len(nodes)))}], "nodes": nodes, "meshes": meshes,
+            "materials": materials, "accessors": accessors, "bufferViews": views,
+            "buffers": [{"byteLength": len(blob),
+                         "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode()}]}
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else "."
+    os.makedirs(out, exist_ok=True)
+    for name, n, tilt, equal in (("parallel", 8, False, False), ("intersecting", 8, True, False),
+                                 ("coplanar", 6, False, True)):
+        path = os.path.join(out, f"layers_{name}.gltf")
+        with open(path, "w") as f:
+            json.dump(scene(n, tilt, equal), f)
+        print(path)
+
+
+if __name__ == "__main__":
+    main()
