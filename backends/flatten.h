@@ -9,8 +9,9 @@
 // out of line is called with the functor's address, and a kernel launched
 // lightweight then copies its whole functor from the kernel's parameters to
 // every thread's stack first (2.4 KB for the glTF shading's: `cuobjdump
-// -res-usage` STACK 2,416 bytes; what keeps the body small enough for nvcc
-// to inline, see RAST_GPU_NOINLINE below).
+// -res-usage` STACK 2,416 bytes; the glTF shading keeps its body small
+// enough for nvcc to inline by sampling its textures in one loop,
+// Shade::materialTexels in pipeline/shade/pbr_fragment.h).
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -27,24 +28,10 @@
 // fragment (the glTF material's lookups): on a GPU a member function left out
 // of line needs its `this`, the functor, in addressable memory, and a kernel
 // launched lightweight (its functor in the kernel's parameters, data/device.h)
-// then copies the whole functor to every thread's stack first. The large free
-// functions they call (the texture samplers) may stay out of line: they take
-// values, not the functor (pipeline/shade/texture_sampling.h). On host
+// then copies the whole functor to every thread's stack first. On host
 // backends a plain inline function (RAST_FLATTEN decides there).
 #if defined(__CUDACC__) || defined(__HIPCC__)
 #define RAST_GPU_INLINE KOKKOS_FORCEINLINE_FUNCTION
 #else
 #define RAST_GPU_INLINE KOKKOS_INLINE_FUNCTION
-#endif
-
-// RAST_GPU_NOINLINE on a large free function that a shading kernel calls in
-// several places (the glTF samplers' filter, texture_sampling.h): inlined
-// five times over, the textured glTF kernel grew so large that nvcc left its
-// whole body out of line from Kokkos' launch wrapper, and that call took the
-// functor's address (the 2.4 KB copy above). Out of line itself, it takes
-// values and locals only. On host backends a plain inline function.
-#if defined(__CUDACC__) || defined(__HIPCC__)
-#define RAST_GPU_NOINLINE KOKKOS_FUNCTION __noinline__
-#else
-#define RAST_GPU_NOINLINE KOKKOS_INLINE_FUNCTION
 #endif

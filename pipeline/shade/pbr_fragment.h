@@ -36,11 +36,33 @@ RAST_GPU_INLINE float4 Shade::sampleTexture(const TextureGPU& tex, float2 uv, De
   return sampleBilinear(tex, tx, decode, uv.x, uv.y);
 }
 
-// Texture t of the scene (a material's slot).
-RAST_GPU_INLINE float4 Shade::sampleMaterial(int32_t t, float2 uv, DecodeTable decode, float2 dx,
-                                             float2 dy) const {
-  const TextureGPU tex = textures(t);
-  return sampleTexture(tex, uv, decode, dx, dy);
+// The material's textures at a fragment. One loop over the slots, kept a
+// loop on GPUs: with a sampler call per texture, inlined or not, nvcc either
+// left the textured kernel's body out of line (the functor copied to every
+// thread's stack) or saved the registers around five calls to the filter;
+// here the filter is one copy of code, inlined.
+RAST_GPU_INLINE void Shade::materialTexels(const TriFrag& f, const MaterialGPU& m, uint32_t on1, const UvSet& c0,
+                                           const UvSet& c1, float4 (&tx)[kTextureSlots]) const {
+  const bool emits = m.emissive.x > 0.0f || m.emissive.y > 0.0f || m.emissive.z > 0.0f;
+#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < kTextureSlots; ++k) {
+    const int32_t index = k == SlotBaseColor    ? m.texture
+                          : k == SlotMetalRough ? m.mrTexture
+                          : k == SlotNormal     ? m.normalTexture
+                          : k == SlotOcclusion  ? m.occlusionTexture
+                          : emits               ? m.emissiveTexture
+                                                : -1;
+    if (index < 0) continue;
+    // The base colour's coordinates are always the first set; colour
+    // textures are decoded from sRGB, data textures as unorm.
+    const UvSet& c = k != SlotBaseColor && (on1 >> k & 1u) ? c1 : c0;
+    const bool srgb = k == SlotBaseColor || k == SlotEmissive;
+    // The base colour's texture is the triangle's (TriFrag::tex, loaded by prepare).
+    const TextureGPU tex = k == SlotBaseColor ? f.tex : textures(index);
+    tx[k] = sampleTexture(tex, c.uv, DecodeTable{srgb ? lut.data() : unorm.data()}, c.dx, c.dy);
+  }
 }
 
 KOKKOS_INLINE_FUNCTION Shade::UvSet Shade::uvSet(float2 t0, float2 t1, float2 t2, const float b[3], const float bx[3],
@@ -68,7 +90,7 @@ KOKKOS_INLINE_FUNCTION Shade::UvSet Shade::uvSet(float2 t0, float2 t1, float2 t2
 // turned by a mirroring matrix so that it stays the file's bitangent).
 // A back face turns all three, as the Khronos renderer does.
 RAST_GPU_INLINE float3 Shade::normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
-                                                  float3 N, bool back, const UvSet& c) const {
+                                           float3 N, bool back, const UvSet& c, const float4& nt) const {
   float3 T{0.0f, 0.0f, 0.0f};
   float w = 1.0f;
   if (hasTangent) {
@@ -100,7 +122,6 @@ RAST_GPU_INLINE float3 Shade::normalMapped(const TriFrag& f, const MaterialGPU& 
   if (!(dot(T, T) > 0.0f)) return Ng;
   T = normalize(T);
   const float3 B = cross(N, T) * (w * s);
-  const float4 nt = sampleMaterial(m.normalTexture, c.uv, DecodeTable{unorm.data()}, c.dx, c.dy);
   return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T * s, B, Ng);
 }
 
@@ -157,9 +178,10 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
     c0 = uvSet(f.uv[0], f.uv[1], f.uv[2], b, bx, by, derivatives);
     if (on1) c1 = uvSet(uvs1(f.s0), uvs1(f.s1), uvs1(f.s2), b, bx, by, derivatives);
   }
+  float4 tx[kTextureSlots] = {};
+  if (textured) materialTexels(f, m, on1, c0, c1, tx);
   float4 base = m.baseColor;
-  // The base colour's texture is the triangle's (TriFrag::tex, loaded by prepare).
-  if (textured && m.texture >= 0) base = base * sampleTexture(f.tex, c0.uv, DecodeTable{lut.data()}, c0.dx, c0.dy);
+  if (textured && m.texture >= 0) base = base * tx[SlotBaseColor];
   if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
   const float alpha = (m.flags & kMaterialOpaque) || f.material < 0 ? 1.0f : base.w;
   const float3 baseRgb{base.x, base.y, base.z};
@@ -170,8 +192,7 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
 
   pbr::Surface s{baseRgb, clamp01(m.metallic), clamp01(m.roughness)};
   if (textured && m.mrTexture >= 0) {
-    const UvSet& c = on1 >> SlotMetalRough & 1u ? c1 : c0;
-    const float4 mr = sampleMaterial(m.mrTexture, c.uv, DecodeTable{unorm.data()}, c.dx, c.dy);
+    const float4& mr = tx[SlotMetalRough];
     s.roughness = clamp01(s.roughness * mr.y);
     s.metallic = clamp01(s.metallic * mr.z);
   }
@@ -182,16 +203,17 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   // normal towards the viewer, as the specification says.
   const bool back = (dot(t.face, V) < 0.0f) != (f.mirrored != 0);
   const float3 Ng = back ? N * -1.0f : N;
-  if (textured && m.normalTexture >= 0) N = normalMapped(f, m, b0, b1, b2, N, back, on1 >> SlotNormal & 1u ? c1 : c0);
+  if (textured && m.normalTexture >= 0)
+    N = normalMapped(f, m, b0, b1, b2, N, back, on1 >> SlotNormal & 1u ? c1 : c0, tx[SlotNormal]);
   else N = Ng;
   if (kAny && p.mode == ShadingMode::ShadingNormals)  // encoded as the normals view encodes
     return float4{N.x * 0.5f + 0.5f, N.y * 0.5f + 0.5f, N.z * 0.5f + 0.5f, alpha};
   if (kAny && p.mode == ShadingMode::Occlusion) {
-    const float ao = occlusionAt(m, textured, on1, c0, c1);
+    const float ao = occlusionAt(m, textured, tx[SlotOcclusion]);
     return float4{ao, ao, ao, alpha};
   }
   if (kAny && p.mode == ShadingMode::Emissive) {
-    const float3 e = emissionAt(m, textured, on1, c0, c1);
+    const float3 e = emissionAt(m, textured, tx[SlotEmissive]);
     return float4{e.x, e.y, e.z, alpha};
   }
 
@@ -216,32 +238,25 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   }
   // Indirect light (the environment's, else an ambient term on the
   // diffuse part), darkened by the occlusion texture: only it.
-  const float ao = occlusionAt(m, textured, on1, c0, c1);
+  const float ao = occlusionAt(m, textured, tx[SlotOcclusion]);
   if (useEnv)
     color = color + iblShade(p.env, N, V, s.base, s.metallic, s.roughness, ao);
   else if (!anyPunctual)
     color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
-  color = color + emissionAt(m, textured, on1, c0, c1);
+  color = color + emissionAt(m, textured, tx[SlotEmissive]);
   return float4{color.x, color.y, color.z, alpha};
 }
 
-RAST_GPU_INLINE float Shade::occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
-                                                const UvSet& c1) const {
+RAST_GPU_INLINE float Shade::occlusionAt(const MaterialGPU& m, bool textured, const float4& texel) {
   if (!textured || m.occlusionTexture < 0) return 1.0f;
-  const UvSet& c = on1 >> SlotOcclusion & 1u ? c1 : c0;
-  const float ao = sampleMaterial(m.occlusionTexture, c.uv, DecodeTable{unorm.data()}, c.dx, c.dy).x;
-  return 1.0f + m.occlusionStrength * (ao - 1.0f);
+  return 1.0f + m.occlusionStrength * (texel.x - 1.0f);
 }
 
 // Emitted light: the factor (times KHR_materials_emissive_strength) times the texture.
-RAST_GPU_INLINE float3 Shade::emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
-                                                const UvSet& c1) const {
+RAST_GPU_INLINE float3 Shade::emissionAt(const MaterialGPU& m, bool textured, const float4& texel) {
   float3 emissive = m.emissive;
-  if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f)) {
-    const UvSet& c = on1 >> SlotEmissive & 1u ? c1 : c0;
-    const float4 et = sampleMaterial(m.emissiveTexture, c.uv, DecodeTable{lut.data()}, c.dx, c.dy);
-    emissive = emissive * float3{et.x, et.y, et.z};
-  }
+  if (textured && m.emissiveTexture >= 0 && (emissive.x > 0.0f || emissive.y > 0.0f || emissive.z > 0.0f))
+    emissive = emissive * float3{texel.x, texel.y, texel.z};
   return emissive;
 }
 

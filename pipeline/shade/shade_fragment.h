@@ -303,8 +303,6 @@ struct Shade {
   // (kFeat, PbrFeature) or read at run time (kPbrAny).
   RAST_GPU_INLINE float4 sampleTexture(const TextureGPU& tex, float2 uv, DecodeTable decode, float2 dx,
                                               float2 dy) const;
-  RAST_GPU_INLINE float4 sampleMaterial(int32_t t, float2 uv, DecodeTable decode, float2 dx,
-                                               float2 dy) const;
   // A set of texture coordinates at a fragment: the point, its derivatives
   // one pixel right and up (when the filter takes them) and the triangle's
   // three corners.
@@ -314,18 +312,24 @@ struct Shade {
   };
   KOKKOS_INLINE_FUNCTION static UvSet uvSet(float2 t0, float2 t1, float2 t2, const float b[3], const float bx[3],
                                             const float by[3], bool derivatives);
+  // The texels of a fragment's material textures, indexed by TextureSlot
+  // (left as they are where the material has no such texture, or no
+  // emission), sampled in one loop: on a GPU one copy of the filter's code
+  // in the kernel (docs/cuda.md).
+  static constexpr int kTextureSlots = SlotEmissive + 1;
+  RAST_GPU_INLINE void materialTexels(const TriFrag& f, const MaterialGPU& m, uint32_t on1, const UvSet& c0,
+                                      const UvSet& c1, float4 (&tx)[kTextureSlots]) const;
   RAST_GPU_INLINE float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
-                                             float3 N, bool back, const UvSet& c) const;
+                                      float3 N, bool back, const UvSet& c, const float4& texel) const;
   RAST_GPU_INLINE PbrTri pbrTri(const TriFrag& f) const;
   template <int kFeat = kPbrAny>
   RAST_GPU_INLINE float4 shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
                                          int32_t oy, float b0, float b1, float b2, float3 N, const float3& P) const;
   // The occlusion texture's factor on indirect light, and the emitted light,
   // of a fragment of material m (the glTF shading and its debug views).
-  RAST_GPU_INLINE float occlusionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
-                                           const UvSet& c1) const;
-  RAST_GPU_INLINE float3 emissionAt(const MaterialGPU& m, bool textured, uint32_t on1, const UvSet& c0,
-                                           const UvSet& c1) const;
+  // (texel: the material's occlusion or emissive texel, materialTexels).
+  RAST_GPU_INLINE static float occlusionAt(const MaterialGPU& m, bool textured, const float4& texel);
+  RAST_GPU_INLINE static float3 emissionAt(const MaterialGPU& m, bool textured, const float4& texel);
   // One directional light L of intensity I: Lambert's term, and Blinn-Phong's
   // highlight in that mode.
   KOKKOS_INLINE_FUNCTION void addLight(const float3& N, const float3& V, const float3& L, const float I,

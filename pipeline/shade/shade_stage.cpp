@@ -41,11 +41,10 @@ bool interleavedLayout(int run, int samples) { return kShadeInterleave > 1 && ru
 // backends/frame_graphs.h): nothing in them takes the functor's address,
 // which would make every thread copy the 2.2 KB functor to its stack first
 // (docs/cuda.md). The CUDA 11.8 build for sm_90 (`cuobjdump -res-usage`):
-// STACK 0 or 32 bytes for the instances without texture coordinates, 680 to
-// 696 for the textured ones (the register saves around their out-of-line
-// texture filter, RAST_GPU_NOINLINE in backends/flatten.h; 2,416 to 2,440
-// when references to the functor's views and the size of the inlined
-// filter had nvcc copy the functor, and they launched heavyweight).
+// STACK 0 bytes for the instances without texture coordinates, 400 to 416
+// for the textured ones (their material's texels, Shade::materialTexels);
+// 2,416 to 2,440 when they sampled each texture at its own call site and
+// nvcc left the kernel's body out of line (they launched heavyweight then).
 template <int kFeat>
 void launchPbrWith(const Shade& k, const Range& items) {
   using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;

@@ -34,11 +34,11 @@ KOKKOS_INLINE_FUNCTION float reduceCoord(float u, int32_t mode) {
 }
 
 // The texels and a decode table (the sRGB one for colour textures, the unorm
-// one for data) by their addresses, passed by value. The samplers below are
-// large, and a GPU compiler may leave them out of line; called with
-// references to a kernel functor's views, that call would take the address
-// of the functor, which a GPU then copies (2.4 KB for the glTF shading's)
-// from the kernel's parameters to every thread's stack first.
+// one for data) by their addresses, passed by value. Passed as references to
+// a kernel functor's views, the glTF shading's calls for the two tables were
+// merged behind a pointer to either member, which takes the address of the
+// functor, and a GPU then copies it (2.4 KB for the glTF shading's) from the
+// kernel's parameters to every thread's stack first.
 struct TexelTable {
   const uint32_t* t;
   KOKKOS_INLINE_FUNCTION uint32_t operator()(uint32_t i) const { return t[i]; }
@@ -147,13 +147,10 @@ KOKKOS_INLINE_FUNCTION float4 sampleSamplerAt(const TextureGPU& t, const Texels&
 // between levels (as the Khronos Sample Renderer asks WebGL for, 16x): up to
 // maxAniso taps along the footprint's longer axis, each at the level of detail
 // of its length divided by the taps (the usual approximation of the
-// footprint, EXT_texture_filter_anisotropic's), averaged. Out of line on GPUs
-// (RAST_GPU_NOINLINE): inlined at each of the glTF shading's texture lookups,
-// it made that kernel too large for nvcc to inline whole (the isotropic part
-// alone too: STACK 2,728 bytes, the functor copied).
+// footprint, EXT_texture_filter_anisotropic's), averaged.
 template <class Texels, class Lut>
-RAST_GPU_NOINLINE float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
-                                       float2 dx, float2 dy, int32_t maxAniso) {
+KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
+                                            float2 dx, float2 dy, int32_t maxAniso) {
   constexpr int32_t kNearest = 9728, kNearestMipLinear = 9986;
   const float ax = dx.x * float(t.width), bx = dx.y * float(t.height), ay = dy.x * float(t.width), by = dy.y * float(t.height);
   const float rx = ax * ax + bx * bx, ry = ay * ay + by * by;
