@@ -15,6 +15,7 @@
 // the layout of work items changes no bit of the result.
 #pragma once
 
+#include "backends/flatten.h"
 #include "base/color.h"
 #include "pipeline/rules/raster_rules.h"
 #include "pipeline/rules/visbuffer_blocks.h"

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "backends/fast_floor.h"
-#include "backends/flatten.h"
 #include "base/color.h"
 #include "pipeline/data/gpu_types.h"
 #include "host/scene/scene.h"
