@@ -3,7 +3,7 @@
 // with a lane per 8x8 block walking its rows (RasterBlocks) and with a block
 // row's pixels on consecutive lanes (RasterBlockRows); plain stores for scale.
 // Outside the project's build. On the GPU machine:
-//   nvcc -O2 -arch=sm_90 -o atomics_layout scripts/device/atomics_layout.cu && ./atomics_layout
+//   nvcc -O2 -arch=sm_90 -o atomics_layout scripts/device/micro/atomics_layout.cu && ./atomics_layout
 #include <cuda_runtime.h>
 #include <cstdio>
 const int W = 1920, H = 1080, BW = W / 8, BH = H / 8;

@@ -3,7 +3,7 @@
 // event node, a few kernels): docs/performance.md, "A block's rows on lanes".
 // COLD runs read 64 MiB on the host between launches. Outside the project's
 // build. On the GPU machine:
-//   nvcc -O2 -arch=sm_90 -o graph_launch_cost scripts/device/graph_launch_cost.cu && ./graph_launch_cost
+//   nvcc -O2 -arch=sm_90 -o graph_launch_cost scripts/device/micro/graph_launch_cost.cu && ./graph_launch_cost
 #include <cuda_runtime.h>
 #include <chrono>
 #include <cstdio>
