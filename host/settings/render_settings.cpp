@@ -135,6 +135,7 @@ std::string settingsKey(const RenderSettings& rs) {
   s.reserve(512);
   for (long long v : {(long long)rs.width, (long long)rs.height, (long long)rs.cull, (long long)rs.shading,
                       (long long)rs.filter, (long long)rs.anisotropy, (long long)rs.raster, (long long)rs.wantDepth, (long long)rs.wantPrimId,
+                      (long long)rs.keysOnly,
                       (long long)rs.wantNormals, (long long)rs.msaa, (long long)rs.ssaa, (long long)rs.reference,
                       (long long)rs.referenceGrid, (long long)rs.referenceSeed, (long long)rs.perspectiveCorrect,
                       (long long)rs.polygon, (long long)rs.wireframe, (long long)rs.transparency,

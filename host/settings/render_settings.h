@@ -85,6 +85,10 @@ struct RenderSettings {
   float specular = 0.35f, shininess = 32.0f;  // Blinn-Phong only
   float4 background{0.0f, 0.0f, 0.0f, 1.0f};  // linear
   bool wantDepth = false, wantPrimId = false, wantNormals = false;
+  // The frame ends with its raster: no shading, the visibility keys left in
+  // the frame's buffers for the caller to read (rast::lib::rasterize, which
+  // writes its own outputs from them).
+  bool keysOnly = false;
   // Anti-aliasing. msaa: samples per pixel for coverage and depth (1, 2, 4, 8),
   // shaded once per pixel per covered triangle. ssaa: k x k shaded samples per
   // pixel (1, 2, 4). reference: 16x16 stratified samples with bilinear

@@ -122,8 +122,8 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // visbuffer and naive rasters tag the blocks they write.
   p.numberBlocks = p.method == RasterMethod::VisBuffer && p.fill;
   p.tagsBlocks = p.numberBlocks || (p.method == RasterMethod::Naive && p.fill);
-  p.needWorld = !(rs.shading == ShadingMode::Depth || rs.shading == ShadingMode::TexCoord) || rs.wantNormals ||
-                rs.post.ssao;
+  p.needWorld = !rs.keysOnly && (!(rs.shading == ShadingMode::Depth || rs.shading == ShadingMode::TexCoord) ||
+                                  rs.wantNormals || rs.post.ssao);
   // The float film: when a post pass or an HDR output needs it, and for every
   // pass of a supersampled frame (resolved in float).
   p.film = rs.post.needsFloat() || in.supersampling;
@@ -140,7 +140,9 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // On the CPU the binned raster can shade each tile as it finishes: the
   // shade stage's time is then part of the raster's.
   const bool linesOrPoints = p.lines.lineItems() + p.lines.pointItems() > 0;
-  if (p.method == RasterMethod::Binned && p.fill && !in.keepKeys && !p.blend.mask && !p.blend.blend &&
+  if (rs.keysOnly)
+    p.shade = ShadePath::None;
+  else if (p.method == RasterMethod::Binned && p.fill && !in.keepKeys && !p.blend.mask && !p.blend.blend &&
       fusedBinnedShadeUsable(f, p.shadeParams, linesOrPoints))
     p.shade = ShadePath::FusedBinned;
   else if (spanShadeUsable(f, p.shadeParams))

@@ -41,6 +41,7 @@ enum class ShadePath {
   Pixels,       // the per-pixel kernel (every backend; clears the keys behind it)
   Spans,        // the CPU's span kernel (host backends)
   FusedBinned,  // shaded per tile inside the binned raster (host backends); no keys written
+  None,         // not shaded: the keys are the frame's output (RenderSettings::keysOnly)
 };
 
 struct FramePlan {

@@ -337,6 +337,7 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
     case ShadePath::Pixels: shadeStage(scene_, frame_, plan.shadeParams, lights_); break;
     case ShadePath::Spans: shadeSpansStage(scene_, frame_, plan.shadeParams, lights_); break;
     case ShadePath::FusedBinned: break;  // shaded with the raster
+    case ShadePath::None: break;         // the keys are the output (the caller clears none: visClear is false)
   }
   Kokkos::Profiling::popRegion();
   if (timer) timer->mark("shade");
@@ -359,6 +360,22 @@ void Renderer::runPost(const Camera& cam, const RenderSettings& rs, StageTimer* 
   v.ssaoRadius = ssaoRadiusFor(rs.post, glm::length(cam.eye - cam.target));
   runPostChain(frame_.post, v, rs.post, frame_.color, scene_.srgbEncodePacked, isRawShading(rs.shading), timer,
                rs.background.w < 1.0f);
+}
+
+FrameKeys Renderer::takeKeys() {
+  if (plan_.shade != ShadePath::None || plan_.samples != 1 || frame_.visClear)
+    throw Error("internal: takeKeys() after a frame that was shaded, multisampled or already taken");
+  FrameKeys k;
+  k.vis = frame_.vis;
+  k.tris = frame_.tris;
+  k.blockFrame = frame_.blockFrame;
+  k.blockDepth = frame_.blockDepth;
+  k.frame = frame_.uniforms;
+  const uint32_t numBlocks = visBlocks(frame_.vp, k.blocksPerRow);
+  k.tagged = plan_.shadeParams.blockFrames && frame_.blockFrame.data() ? 1 : 0;
+  k.resetBlocks = frame_.blockDepth.data() && frame_.blockDepth.extent(0) >= numBlocks ? 1 : 0;
+  frame_.visClear = true;
+  return k;
 }
 
 bool Renderer::lastFrameFit(FrameStats* stats) {

@@ -6,6 +6,7 @@
 #include "host/scene/camera.h"
 #include "pipeline/data/device_scene.h"
 #include "pipeline/data/frame_buffers.h"
+#include "pipeline/frame/frame_keys.h"
 #include "pipeline/frame/frame_plan.h"
 #include "pipeline/shade/shade.h"
 #include "host/settings/render_settings.h"
@@ -83,6 +84,12 @@ class Renderer {
   // Enqueues one frame with no host-device traffic (for benchmarks); call
   // lastFrameFit() afterwards to check that no buffer overflowed.
   void enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer = nullptr);
+
+  // After enqueue() with RenderSettings::keysOnly (one sample a pixel): the
+  // frame's keys, for one pass of the caller's over every pixel, queued next
+  // on the default instance (FrameKeys::take). The next frame counts on that
+  // pass having cleared them.
+  FrameKeys takeKeys();
 
   // Reads the device counters of the last frame (a small copy that waits for
   // it); grows the buffers for next time and returns false if it overflowed.

@@ -125,3 +125,62 @@ TEST_CASE("a moving camera on one renderer gives the frames of fresh renderers",
     CHECK(differ == 7);  // the camera moved every frame, and so did the image
   }
 }
+
+// A keys-only frame (RenderSettings::keysOnly: rast::lib::rasterize) ends with
+// its keys, which the caller's pass reads through FrameKeys::take; take
+// clears them and resets the visbuffer's block bounds, as shading does. The
+// ids taken must be a shaded frame's, and the frames after it, keys-only or
+// shaded, must not see a key it left: close and far views alternate.
+TEST_CASE("keys-only frames give the shaded frame's ids and leave the keys clear", "[frame-reuse][keys]") {
+  const Scene s = builtinScene("builtin:default");
+  const Camera close = defaultCamera(s);
+  Camera far = close;
+  far.eye = close.target + (close.eye - close.target) * 3.0;
+  RenderSettings rs;
+  rs.width = 157;
+  rs.height = 93;
+  rs.wantPrimId = true;
+  rs.wantDepth = true;
+  testHooks().shadeRun = 1;  // on a CPU, the per-pixel kernel (the span kernel does not clear)
+  const int64_t n = int64_t(rs.width) * rs.height;
+  for (RasterMethod method : {RasterMethod::VisBuffer, RasterMethod::Naive, RasterMethod::Binned}) {
+    rs.raster = method;
+    INFO("method " << int(method));
+    Renderer r(s);
+    size_t changed = 0;
+    std::vector<uint32_t> last;
+    for (int step = 0; step < 6; ++step) {
+      const bool keys = step % 3 != 2;  // two keys-only frames, then a shaded one
+      const Camera& cam = step % 2 ? far : close;
+      INFO("step " << step << (keys ? " keys-only" : " shaded"));
+      const Frame fresh = renderFrame(s, cam, rs);
+      std::vector<uint32_t> ids;
+      if (keys) {
+        RenderSettings k = rs;
+        k.keysOnly = true;
+        r.enqueue(cam, k);
+        const FrameKeys fk = r.takeKeys();
+        Kokkos::View<uint32_t*, Exec::memory_space> out("ids", size_t(n));
+        const int32_t w = rs.width;
+        Kokkos::parallel_for(
+            "rast::test::take_keys", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(const int64_t i) {
+              const int64_t t = fk.take(i, int32_t(i % w), int32_t(i / w));
+              out(i) = uint32_t(t + 1);
+            });
+        REQUIRE(r.lastFrameFit());
+        auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
+        ids.assign(h.data(), h.data() + n);
+        REQUIRE_THROWS(r.takeKeys());  // once a frame
+      } else {
+        r.render(cam, rs);
+        ids = r.primIdsBottomUp();
+        REQUIRE(r.depthBottomUp() == fresh.depth);
+      }
+      REQUIRE(ids == fresh.ids);
+      if (!last.empty())
+        for (size_t i = 0; i < ids.size(); ++i) changed += last[i] != 0 && ids[i] == 0;
+      last = ids;
+    }
+    CHECK(changed > 1000);
+  }
+}
