@@ -161,35 +161,35 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
   RenderSettings rs;
   rs.width = width;
   rs.height = height;
-  // Only the ids are read back; Lambert's frame takes the shade stage's
-  // lit kernel, its cheapest (depth shading adds a min/max pass over the
-  // frame and the general kernel).
-  rs.shading = ShadingMode::Lambert;
-  rs.wantPrimId = true;
-  // The barycentric pass is queued behind the frame before the renderer
-  // reads its counters (the fit of its buffers), so that one wait covers
-  // both; a frame that did not fit is drawn again with grown buffers, and the
-  // pass with it. The pass runs on the renderer's instance, behind its frame,
-  // and reads the scene's checked indices, never the caller's raw ones.
+  // The frame stops at its visibility keys (RenderSettings::keysOnly): no
+  // colour nobody reads. One pass then turns each pixel's key into the
+  // outputs (its raster triangle's primitive, the barycentrics), queued
+  // behind the frame before the renderer reads its counters (the fit of its
+  // buffers), so that one wait covers both; a frame that did not fit is drawn
+  // again with grown buffers, and the pass with it. The pass runs on the
+  // renderer's instance, behind its frame, and reads the scene's checked
+  // indices, never the caller's raw ones. It clears the keys as the shade
+  // stage does (FrameKeys), so the next frame needs no clearing pass.
+  rs.keysOnly = true;
   ::rast::Renderer& r = *im.renderer;
   for (int attempt = 1;; ++attempt) {
     r.enqueue(cam, rs);
-    const auto prim = r.frameBuffers().primId;
+    const FrameKeys keys = r.takeKeys();
     Kokkos::parallel_for(
         "rast::api::barycentrics", Kokkos::RangePolicy<ExecutionSpace>(ExecutionSpace(), 0, int64_t(height) * width),
         KOKKOS_LAMBDA(const int64_t p) {
           // One thread a pixel along rows: neighbouring threads write neighbouring outputs.
           const int64_t y = p / width, x = p - y * width;
-          const uint32_t id = prim(p);
-          if (id == 0) {
+          const int64_t drawn = keys.take(p, int32_t(x), int32_t(y));  // the input triangle, not a clipped piece
+          if (drawn < 0) {
             for (int k = 0; k < 4; ++k) out(y, x, k) = 0.0f;
             ids(y, x) = -1;
             return;
           }
-          const int64_t t = int64_t(id) - 1;
+          const uint32_t t = uint32_t(drawn);
           double px[3], py[3], iw[3], zw[3];
           for (int k = 0; k < 3; ++k) {
-            const uint32_t v = indices(3 * t + k);
+            const uint32_t v = indices(3 * int64_t(t) + k);
             iw[k] = 1.0 / double(pos(v, 3));
             px[k] = double(pos(v, 0)) * iw[k];
             py[k] = double(pos(v, 1)) * iw[k];
@@ -199,7 +199,7 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
           out(y, x, 0) = float(w.p[0]);
           out(y, x, 1) = float(w.p[1]);
           out(y, x, 2) = float(w.b[0] * zw[0] + w.b[1] * zw[1] + w.b[2] * zw[2]);
-          out(y, x, 3) = float(id);
+          out(y, x, 3) = float(t + 1u);
           ids(y, x) = int32_t(t);
         });
     if (r.lastFrameFit()) break;
@@ -222,6 +222,7 @@ void rasterize(const ExecutionSpace& exec, View<const float* [4]> pos, View<cons
 
 int deviceIndex() { return ::rast::deviceIndex(); }
 uintptr_t deviceStream() { return ::rast::deviceStream(); }
+bool deviceStreamFollowsLegacy() { return ::rast::deviceStreamFollowsLegacy(); }
 
 }  // namespace lib
 }  // namespace rast

@@ -275,6 +275,15 @@ check(np.array_equal(first[1], second[1]) and np.array_equal(first[0], second[0]
       "a call whose clipped triangles outgrow the buffers == the next call (drawn again, with its barycentrics)")
 check(cov.sum() > 100 and float(first[0][0][..., 2][cov].max()) <= 1.0 + 1e-6,
       "clipped at the far plane: every covered pixel has z/w <= 1")
+# the ids are the input triangles, not the clipped pieces: each covered pixel's
+# barycentrics rebuild its centre from its triangle's corners
+cids, cout = first[1][0], first[0][0]
+cb = np.stack([cout[..., 0], cout[..., 1], 1 - cout[..., 0] - cout[..., 1]], -1)[cov].astype(np.float64)
+cclip = (cb[..., None] * cpos[ctri[cids[cov]]].astype(np.float64)).sum(1)
+cy, cx = np.nonzero(cov)
+cerr = max(np.abs(cclip[:, 0] / cclip[:, 3] - ((2 * cx + 1) / RW - 1)).max(),
+           np.abs(cclip[:, 1] / cclip[:, 3] - ((2 * cy + 1) / RH - 1)).max())
+check(cerr < 1e-4, f"clipped triangles keep their input ids (centres rebuilt, max error {cerr:.2e})")
 
 # ---- bad input: clear exceptions, never a crash
 raises(ValueError, ["pos", "shape"], rast.rasterize, pos[:, :3].copy(), tri, (RH, RW))
