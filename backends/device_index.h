@@ -38,4 +38,22 @@ inline std::uintptr_t deviceStream() {
 #endif
 }
 
+// Whether the default instance's stream waits for the work queued before on
+// the GPU's legacy default stream: it is that stream, or a blocking one (as
+// Kokkos creates its own). A caller queuing there (torch's default) then
+// needs no event to order its work before the library's.
+inline bool deviceStreamFollowsLegacy() {
+#if defined(RAST_EXEC_HIP)
+  unsigned int flags = 0;
+  hipStream_t s = Exec().hip_stream();
+  return s == nullptr || (hipStreamGetFlags(s, &flags) == hipSuccess && (flags & hipStreamNonBlocking) == 0);
+#elif defined(RAST_EXEC_CUDA)
+  unsigned int flags = 0;
+  cudaStream_t s = Exec().cuda_stream();
+  return s == nullptr || (cudaStreamGetFlags(s, &flags) == cudaSuccess && (flags & cudaStreamNonBlocking) == 0);
+#else
+  return false;
+#endif
+}
+
 }  // namespace rast

@@ -235,6 +235,7 @@ PYBIND11_MODULE(_rast, m) {
   });
   m.attr("__version__") = lib::version();
   m.attr("backend") = lib::backend();
+  m.attr("_follows_legacy_stream") = lib::deviceStreamFollowsLegacy();
   m.attr("on_device") = !Kokkos::SpaceAccessibility<ExecutionSpace, Kokkos::HostSpace>::accessible;
 
   py::class_<lib::Scene>(m, "Scene", "a scene: geometry, materials, textures, lights")

@@ -181,6 +181,10 @@ int deviceIndex();
 // DLPack producer given it (`__dlpack__(stream=...)`) orders its pending work
 // before the library's reads without a wait on the host.
 uintptr_t deviceStream();
+// Whether that stream waits for work queued before on the GPU's legacy
+// default stream (torch's default stream): callers queuing there need no
+// other ordering. False in host builds.
+bool deviceStreamFollowsLegacy();
 
 }  // namespace lib
 }  // namespace rast

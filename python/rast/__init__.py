@@ -49,8 +49,31 @@ def _output(a, output):
         return a
     if output == "torch":
         import torch
-        return torch.from_dlpack(a)
+        # The library fenced its work before returning the array: its capsule
+        # needs no stream exchange (torch.from_dlpack(a) would ask for one).
+        return torch.from_dlpack(a.__dlpack__())
     return a.numpy()  # writable, the same buffer in CPU builds; a host copy in GPU builds
+
+
+def _legacy_ordered(x):
+    """Whether torch's work on CUDA tensor x is ordered before rast's without
+    a DLPack stream exchange: torch's current stream is CUDA's legacy default
+    stream, and the library's stream (Kokkos' own, created blocking) waits
+    for everything queued there before it. The exchange (torch's
+    __dlpack__(stream=...)) costs about 20 us of Python a call."""
+    if not x.is_cuda or not _rast._follows_legacy_stream:
+        return False
+    import torch
+    raw = getattr(torch._C, "_cuda_getCurrentRawStream", None)
+    return raw is not None and raw(x.device.index) == 0
+
+
+def _capsule(x):
+    """A torch tensor's DLPack capsule without the protocol's stream exchange (see _legacy_ordered)."""
+    if not _is_torch(x):
+        return x
+    import torch.utils.dlpack
+    return torch.utils.dlpack.to_dlpack(x)
 
 
 def _check_output(output):
@@ -237,7 +260,11 @@ def rasterize(pos, tri, resolution, context=None, output="auto"):
     except (TypeError, ValueError):
         raise ValueError(f"resolution: expected (height, width), got {resolution!r}") from None
     # Tensors on the GPU are ordered before rast's reads by the DLPack
-    # protocol (the module passes its stream to __dlpack__), not by a wait here.
+    # protocol (the module passes its stream to __dlpack__), not by a wait
+    # here; or, when torch queues on CUDA's legacy default stream, by that
+    # stream itself (_legacy_ordered), and then their capsules go in as they are.
+    if torch_in and on_device and _legacy_ordered(p):
+        p, t = _capsule(p), _capsule(t)
     out, ids = _rast._rasterize(_context(context), p, t, h, w)
     if output == "auto":
         output = "torch" if torch_in else "numpy" if numpy_in or not on_device else "dlpack"

@@ -67,7 +67,10 @@ def main():
             "_producer(pos)": lambda: rast._producer(p, "pos", np.float32, [("B", "V", 4), ("V", 4)]),
             "pos.__dlpack__(stream)": lambda: p.__dlpack__(stream=stream),
             "pos.__dlpack__()": lambda: p.__dlpack__(),
+            "_legacy_ordered(pos)": lambda: rast._legacy_ordered(p),
+            "to_dlpack(pos)": lambda: torch.utils.dlpack.to_dlpack(p),
             "torch.from_dlpack(out)": lambda: torch.from_dlpack(out),
+            "from_dlpack(out capsule)": lambda: torch.from_dlpack(out.__dlpack__()),
             "current_stream(dev)": lambda: torch.cuda.current_stream(p.device),
         }
         for k, fn in pieces.items():
