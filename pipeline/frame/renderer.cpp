@@ -379,7 +379,11 @@ FrameKeys Renderer::takeKeys() {
 }
 
 bool Renderer::lastFrameFit(FrameStats* stats) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.counters);
+  if (countersHost_.extent(0) != frame_.counters.extent(0))
+    countersHost_ = decltype(countersHost_)("frame.countersHost", frame_.counters.extent(0));
+  const auto& h = countersHost_;
+  Kokkos::deep_copy(Exec(), h, frame_.counters);
+  Exec().fence();
   const uint32_t need = h(kRasterTris);
   if (plan_.autoStats) {
     auto sum = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.sumArea);

@@ -161,6 +161,14 @@ class Renderer {
   uint32_t autoFrames_ = 0;
   uint32_t frameNumber_ = 0;  // FrameUniforms::frame of the last frame
   std::vector<mat4f> upload_;  // the frame's upload (FrameUniforms, draws' MVPs), host side
+  // The counters' copy in host memory the device writes directly (page-locked
+  // on GPUs), read by lastFrameFit: an asynchronous copy and a wait on the
+  // instance, instead of a staged copy between two waits on the whole device.
+#if KOKKOS_VERSION >= 40000
+  Kokkos::View<uint32_t*, Kokkos::SharedHostPinnedSpace> countersHost_;
+#else
+  Kokkos::View<uint32_t*, Kokkos::HostSpace> countersHost_;
+#endif
   bool supersampling_ = false;
   bool blendFallback_ = false;  // the exact tile lists would exceed the budget: kbuffer (lastFrameFit)
   uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame composited  // inside renderSupersampled: passes shade to the film, no post chain
