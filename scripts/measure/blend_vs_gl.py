@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""rast's transparency against the hardware rasterizer's blending (issue #39,
+docs/transparency.md "Against the hardware rasterizer's blending"): the same
+glTF files (scripts/measure/blend_scenes.py: the stress layers and the
+full-screen 8- and 64-layer cases of builtin:layers) drawn by glblend
+(scripts/measure/glblend: OpenGL through EGL, opaque first, BLEND draws sorted
+back to front by their centre and blended premultiplied into a float
+framebuffer) and by rast with `--transparency exact` and `sorted`, with the
+same camera and size. Per scene one CSV row: the median frame times, their
+ratios to glblend's, and the RMSE (linear light) between glblend's film and
+rast's (`rast render -o F.pfm`), sorted and exact.
+
+  python3 scripts/measure/blend_vs_gl.py --rast build/openmp/rast --glblend build/glblend/glblend \\
+      --out docs/data/blend_vs_gl_openmp.csv [--size 1920x1080] [--frames 10] [--gl-frames 50] [--film rgba16f]
+
+Standard library only.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import struct
+import subprocess
+import sys
+import tempfile
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, here)
+import blend_scenes  # noqa: E402
+from csv_rows import write_rows  # noqa: E402
+
+# (label, file, transparent layers, camera flags or None: glblend's --auto-camera, given to rast too)
+SCENES = [
+    ("opaque (full screen)", "fullscreen_0.gltf", 0, blend_scenes.FULL_SCREEN_CAMERA),
+    ("8 mixed, full screen", "fullscreen_8_mixed.gltf", 8, blend_scenes.FULL_SCREEN_CAMERA),
+    ("64 alpha 0.1, full screen", "fullscreen_64_alpha0.1.gltf", 64, blend_scenes.FULL_SCREEN_CAMERA),
+    ("8 parallel", "layers_parallel.gltf", 8, None),
+    ("8 intersecting", "layers_intersecting.gltf", 8, None),
+    ("6 coplanar", "layers_coplanar.gltf", 6, None),
+]
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        ch = 3 if kind == b"PF" else 1
+        data = f.read()
+    return w, h, struct.unpack(("<" if scale < 0 else ">") + f"{w * h * ch}f", data)
+
+
+def errors(a, b):
+    if a[:2] != b[:2]:
+        raise SystemExit(f"films of different sizes: {a[:2]} and {b[:2]}")
+    d = [x - y for x, y in zip(a[2], b[2])]
+    return math.sqrt(sum(v * v for v in d) / max(len(d), 1)), max((abs(v) for v in d), default=0.0)
+
+
+def run(cmd):
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise SystemExit(f"FAILED ({r.returncode}): {' '.join(cmd)}: {r.stderr.strip()[-2000:]}")
+    return r.stdout
+
+
+def camera_flags(glblend_stdout):
+    m = re.search(r"^glblend: camera(?: \(auto\))? (.*)$", glblend_stdout, re.M)
+    if not m:
+        raise SystemExit("glblend printed no camera line")
+    return m.group(1).split()
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--rast", required=True)
+    ap.add_argument("--glblend", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--size", default="1920x1080")
+    ap.add_argument("--frames", default="10", help="rast bench frames")
+    ap.add_argument("--warmup", default="2", help="rast bench warm-up frames")
+    ap.add_argument("--gl-frames", default="50")
+    ap.add_argument("--gl-warmup", default="5")
+    ap.add_argument("--film", default="rgba16f", help="glblend's framebuffer: rgba16f or rgba32f")
+    ap.add_argument("--scenes", default="", help="comma-separated indices into the scene list (default: all)")
+    ap.add_argument("--workdir", default="")
+    ap.add_argument("--rast-flags", default="", help="extra flags for rast render and bench (space-separated)")
+    a = ap.parse_args()
+    tmp = a.workdir or tempfile.mkdtemp(prefix="rast_blend_vs_gl_")
+    os.makedirs(tmp, exist_ok=True)
+    run([sys.executable, os.path.join(here, "blend_scenes.py"), tmp, "--full-screen"])
+    scenes = [SCENES[int(i)] for i in a.scenes.split(",")] if a.scenes else SCENES
+    # Unlit BLEND materials: --shading pbr takes KHR_materials_unlit's path; no
+    # anti-aliasing, no post-processing: the film is the composite.
+    common = ["--size", a.size, "--shading", "pbr", "--aa", "none", "--tonemap", "none"] + a.rast_flags.split()
+    rows = []
+    for label, name, layers, cam in scenes:
+        path = os.path.join(tmp, name)
+        gl_pfm, gl_json = os.path.join(tmp, "gl.pfm"), os.path.join(tmp, "gl.json")
+        out = run([a.glblend, path, "--size", a.size, "--frames", a.gl_frames, "--warmup", a.gl_warmup, "--film",
+                   a.film, "--out-pfm", gl_pfm, "--json", gl_json] + (cam if cam else ["--auto-camera"]))
+        cam = camera_flags(out)
+        with open(gl_json) as f:
+            gl = json.load(f)
+        gl_film = read_pfm(gl_pfm)
+        row = {"scene": label, "file": name, "layers": layers, "size": a.size, "glblend_ms": gl["total_median_ms"]}
+        for method in ("exact", "sorted"):
+            img, bj = os.path.join(tmp, method + ".pfm"), os.path.join(tmp, method + ".json")
+            flags = [path] + common + cam + ["--transparency", method]
+            run([a.rast, "render"] + flags + ["-o", img])
+            run([a.rast, "bench"] + flags + ["--frames", a.frames, "--warmup", a.warmup, "--json", bj])
+            with open(bj) as f:
+                b = json.load(f)
+            b = b[0] if isinstance(b, list) else b
+            rmse, mx = errors(gl_film, read_pfm(img))
+            row[f"rast_{method}_ms"] = b["total_median_ms"]
+            row[f"{method}_over_gl"] = b["total_median_ms"] / gl["total_median_ms"]
+            row[f"rmse_gl_vs_{method}"] = rmse
+            row[f"max_gl_vs_{method}"] = mx
+            row["backend"] = b.get("backend")
+        row["gl_renderer"] = gl["renderer"]
+        row["gl_film"] = a.film
+        rows.append(row)
+        print(f"{label}: glblend {row['glblend_ms']:.3f} ms, rast exact {row['rast_exact_ms']:.3f} ms "
+              f"({row['exact_over_gl']:.2f}x), sorted {row['rast_sorted_ms']:.3f} ms ({row['sorted_over_gl']:.2f}x); "
+              f"RMSE vs sorted {row['rmse_gl_vs_sorted']:.2e}, vs exact {row['rmse_gl_vs_exact']:.2e}", flush=True)
+    write_rows(a.out, rows)
+
+
+if __name__ == "__main__":
+    main()
