@@ -7,11 +7,13 @@ full-screen 8- and 64-layer cases of builtin:layers) drawn by glblend
 back to front by their centre and blended premultiplied into a float
 framebuffer) and by rast with `--transparency exact` and `sorted`, with the
 same camera and size. Per scene one CSV row: the median frame times, their
-ratios to glblend's, and the RMSE (linear light) between glblend's film and
-rast's (`rast render -o F.pfm`), sorted and exact.
+ratios to glblend's (its first --film), and the RMSE and largest difference
+(linear light) between glblend's film, in each --film format, and rast's
+(`rast render -o F.pfm`), sorted and exact.
 
   python3 scripts/measure/blend_vs_gl.py --rast build/openmp/rast --glblend build/glblend/glblend \\
-      --out docs/data/blend_vs_gl_openmp.csv [--size 1920x1080] [--frames 10] [--gl-frames 50] [--film rgba16f]
+      --out docs/data/blend_vs_gl_openmp.csv [--size 1920x1080] [--frames 10] [--gl-frames 50]
+      [--film rgba16f,rgba32f]
 
 Standard library only.
 """
@@ -82,7 +84,8 @@ def main():
     ap.add_argument("--warmup", default="2", help="rast bench warm-up frames")
     ap.add_argument("--gl-frames", default="50")
     ap.add_argument("--gl-warmup", default="5")
-    ap.add_argument("--film", default="rgba16f", help="glblend's framebuffer: rgba16f or rgba32f")
+    ap.add_argument("--film", default="rgba16f,rgba32f",
+                    help="glblend's framebuffers, comma-separated (rgba16f, rgba32f); the first is timed for the ratios")
     ap.add_argument("--scenes", default="", help="comma-separated indices into the scene list (default: all)")
     ap.add_argument("--workdir", default="")
     ap.add_argument("--rast-flags", default="", help="extra flags for rast render and bench (space-separated)")
@@ -95,16 +98,19 @@ def main():
     # anti-aliasing, no post-processing: the film is the composite.
     common = ["--size", a.size, "--shading", "pbr", "--aa", "none", "--tonemap", "none"] + a.rast_flags.split()
     rows = []
+    films = a.film.split(",")
     for label, name, layers, cam in scenes:
         path = os.path.join(tmp, name)
-        gl_pfm, gl_json = os.path.join(tmp, "gl.pfm"), os.path.join(tmp, "gl.json")
-        out = run([a.glblend, path, "--size", a.size, "--frames", a.gl_frames, "--warmup", a.gl_warmup, "--film",
-                   a.film, "--out-pfm", gl_pfm, "--json", gl_json] + (cam if cam else ["--auto-camera"]))
-        cam = camera_flags(out)
-        with open(gl_json) as f:
-            gl = json.load(f)
-        gl_film = read_pfm(gl_pfm)
-        row = {"scene": label, "file": name, "layers": layers, "size": a.size, "glblend_ms": gl["total_median_ms"]}
+        row = {"scene": label, "file": name, "layers": layers, "size": a.size}
+        gl = {}
+        for film in films:  # the first film's time is the one the ratios use
+            gl_pfm, gl_json = os.path.join(tmp, f"gl_{film}.pfm"), os.path.join(tmp, "gl.json")
+            out = run([a.glblend, path, "--size", a.size, "--frames", a.gl_frames, "--warmup", a.gl_warmup, "--film",
+                       film, "--out-pfm", gl_pfm, "--json", gl_json] + (cam if cam else ["--auto-camera"]))
+            cam = camera_flags(out)
+            with open(gl_json) as f:
+                gl[film] = json.load(f)
+            row["glblend_ms" if film == films[0] else f"glblend_{film}_ms"] = gl[film]["total_median_ms"]
         for method in ("exact", "sorted"):
             img, bj = os.path.join(tmp, method + ".pfm"), os.path.join(tmp, method + ".json")
             flags = [path] + common + cam + ["--transparency", method]
@@ -113,18 +119,21 @@ def main():
             with open(bj) as f:
                 b = json.load(f)
             b = b[0] if isinstance(b, list) else b
-            rmse, mx = errors(gl_film, read_pfm(img))
+            film_rast = read_pfm(img)
             row[f"rast_{method}_ms"] = b["total_median_ms"]
-            row[f"{method}_over_gl"] = b["total_median_ms"] / gl["total_median_ms"]
-            row[f"rmse_gl_vs_{method}"] = rmse
-            row[f"max_gl_vs_{method}"] = mx
+            row[f"{method}_over_gl"] = b["total_median_ms"] / row["glblend_ms"]
+            for film in films:
+                rmse, mx = errors(read_pfm(os.path.join(tmp, f"gl_{film}.pfm")), film_rast)
+                row[f"rmse_gl_{film}_vs_{method}"] = rmse
+                row[f"max_gl_{film}_vs_{method}"] = mx
             row["backend"] = b.get("backend")
-        row["gl_renderer"] = gl["renderer"]
-        row["gl_film"] = a.film
+        row["gl_renderer"] = gl[films[0]]["renderer"]
         rows.append(row)
-        print(f"{label}: glblend {row['glblend_ms']:.3f} ms, rast exact {row['rast_exact_ms']:.3f} ms "
+        f0 = films[0]
+        print(f"{label}: glblend ({f0}) {row['glblend_ms']:.3f} ms, rast exact {row['rast_exact_ms']:.3f} ms "
               f"({row['exact_over_gl']:.2f}x), sorted {row['rast_sorted_ms']:.3f} ms ({row['sorted_over_gl']:.2f}x); "
-              f"RMSE vs sorted {row['rmse_gl_vs_sorted']:.2e}, vs exact {row['rmse_gl_vs_exact']:.2e}", flush=True)
+              + "; ".join(f"RMSE {f} vs sorted {row[f'rmse_gl_{f}_vs_sorted']:.2e}, vs exact "
+                          f"{row[f'rmse_gl_{f}_vs_exact']:.2e}" for f in films), flush=True)
     write_rows(a.out, rows)
 
 
