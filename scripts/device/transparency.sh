@@ -40,7 +40,7 @@ fi
 x=/tmp/x
 mkdir -p "$x"
 for f in "$root"/.xdeb/*.deb; do [ -f "$f" ] && dpkg -x "$f" "$x"; done
-export LD_LIBRARY_PATH=$x/usr/lib/x86_64-linux-gnu:$x/lib/x86_64-linux-gnu:/usr/local/nvidia/lib64${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+export LD_LIBRARY_PATH=$x/usr/lib/x86_64-linux-gnu:$x/lib/x86_64-linux-gnu:/usr/local/nvidia/lib64:$root/.device/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 for j in /usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json /usr/share/glvnd/egl_vendor.d/10_nvidia.json; do
   [ -f "$j" ] && { export __EGL_VENDOR_LIBRARY_FILENAMES=$j; break; }
 done

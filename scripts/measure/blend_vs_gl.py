@@ -9,7 +9,8 @@ framebuffer) and by rast with `--transparency exact` and `sorted`, with the
 same camera and size. Per scene one CSV row: the median frame times, their
 ratios to glblend's (its first --film), and the RMSE and largest difference
 (linear light) between glblend's film, in each --film format, and rast's
-(`rast render -o F.pfm`), sorted and exact.
+(`rast render -o F.pfm`), sorted and exact, and the number of pixels that differ
+by more than 0.01 (coverage or order, not rounding).
 
   python3 scripts/measure/blend_vs_gl.py --rast build/openmp/rast --glblend build/glblend/glblend \\
       --out docs/data/blend_vs_gl_openmp.csv [--size 1920x1080] [--frames 10] [--gl-frames 50]
@@ -58,6 +59,13 @@ def errors(a, b):
         raise SystemExit(f"films of different sizes: {a[:2]} and {b[:2]}")
     d = [x - y for x, y in zip(a[2], b[2])]
     return math.sqrt(sum(v * v for v in d) / max(len(d), 1)), max((abs(v) for v in d), default=0.0)
+
+
+def pixels_off(a, b, tol):
+    """Pixels whose largest channel difference exceeds tol (RGB films)."""
+    x, y = a[2], b[2]
+    return sum(1 for i in range(0, len(x), 3)
+               if max(abs(x[i] - y[i]), abs(x[i + 1] - y[i + 1]), abs(x[i + 2] - y[i + 2])) > tol)
 
 
 def run(cmd):
@@ -123,17 +131,21 @@ def main():
             row[f"rast_{method}_ms"] = b["total_median_ms"]
             row[f"{method}_over_gl"] = b["total_median_ms"] / row["glblend_ms"]
             for film in films:
-                rmse, mx = errors(read_pfm(os.path.join(tmp, f"gl_{film}.pfm")), film_rast)
+                gl_film = read_pfm(os.path.join(tmp, f"gl_{film}.pfm"))
+                rmse, mx = errors(gl_film, film_rast)
                 row[f"rmse_gl_{film}_vs_{method}"] = rmse
                 row[f"max_gl_{film}_vs_{method}"] = mx
+                # Off by more than half-float rounding: coverage or order, not arithmetic.
+                row[f"px_off_gl_{film}_vs_{method}"] = pixels_off(gl_film, film_rast, 0.01)
             row["backend"] = b.get("backend")
         row["gl_renderer"] = gl[films[0]]["renderer"]
         rows.append(row)
         f0 = films[0]
         print(f"{label}: glblend ({f0}) {row['glblend_ms']:.3f} ms, rast exact {row['rast_exact_ms']:.3f} ms "
               f"({row['exact_over_gl']:.2f}x), sorted {row['rast_sorted_ms']:.3f} ms ({row['sorted_over_gl']:.2f}x); "
-              + "; ".join(f"RMSE {f} vs sorted {row[f'rmse_gl_{f}_vs_sorted']:.2e}, vs exact "
-                          f"{row[f'rmse_gl_{f}_vs_exact']:.2e}" for f in films), flush=True)
+              + "; ".join(f"RMSE {f} vs sorted {row[f'rmse_gl_{f}_vs_sorted']:.2e} "
+                          f"({row[f'px_off_gl_{f}_vs_sorted']} px off), vs exact {row[f'rmse_gl_{f}_vs_exact']:.2e} "
+                          f"({row[f'px_off_gl_{f}_vs_exact']} px off)" for f in films), flush=True)
     write_rows(a.out, rows)
 
 
