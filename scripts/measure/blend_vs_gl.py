@@ -14,7 +14,7 @@ by more than 0.01 (coverage or order, not rounding).
 
   python3 scripts/measure/blend_vs_gl.py --rast build/openmp/rast --glblend build/glblend/glblend \\
       --out docs/data/blend_vs_gl_openmp.csv [--size 1920x1080] [--frames 10] [--gl-frames 50]
-      [--film rgba16f,rgba32f]
+      [--film rgba16f,rgba32f] [--repeats N]
 
 Standard library only.
 """
@@ -95,6 +95,8 @@ def main():
     ap.add_argument("--film", default="rgba16f,rgba32f",
                     help="glblend's framebuffers, comma-separated (rgba16f, rgba32f); the first is timed for the ratios")
     ap.add_argument("--scenes", default="", help="comma-separated indices into the scene list (default: all)")
+    ap.add_argument("--repeats", type=int, default=1,
+                    help="time each renderer this many times and keep the smallest median (a shared machine's noise)")
     ap.add_argument("--workdir", default="")
     ap.add_argument("--rast-flags", default="", help="extra flags for rast render and bench (space-separated)")
     a = ap.parse_args()
@@ -113,23 +115,29 @@ def main():
         gl = {}
         for film in films:  # the first film's time is the one the ratios use
             gl_pfm, gl_json = os.path.join(tmp, f"gl_{film}.pfm"), os.path.join(tmp, "gl.json")
-            out = run([a.glblend, path, "--size", a.size, "--frames", a.gl_frames, "--warmup", a.gl_warmup, "--film",
-                       film, "--out-pfm", gl_pfm, "--json", gl_json] + (cam if cam else ["--auto-camera"]))
-            cam = camera_flags(out)
-            with open(gl_json) as f:
-                gl[film] = json.load(f)
-            row["glblend_ms" if film == films[0] else f"glblend_{film}_ms"] = gl[film]["total_median_ms"]
+            times = []
+            for _ in range(max(a.repeats, 1)):
+                out = run([a.glblend, path, "--size", a.size, "--frames", a.gl_frames, "--warmup", a.gl_warmup,
+                           "--film", film, "--out-pfm", gl_pfm, "--json", gl_json] + (cam if cam else ["--auto-camera"]))
+                cam = camera_flags(out)
+                with open(gl_json) as f:
+                    gl[film] = json.load(f)
+                times.append(gl[film]["total_median_ms"])
+            row["glblend_ms" if film == films[0] else f"glblend_{film}_ms"] = min(times)
         for method in ("exact", "sorted"):
             img, bj = os.path.join(tmp, method + ".pfm"), os.path.join(tmp, method + ".json")
             flags = [path] + common + cam + ["--transparency", method]
             run([a.rast, "render"] + flags + ["-o", img])
-            run([a.rast, "bench"] + flags + ["--frames", a.frames, "--warmup", a.warmup, "--json", bj])
-            with open(bj) as f:
-                b = json.load(f)
-            b = b[0] if isinstance(b, list) else b
+            times = []
+            for _ in range(max(a.repeats, 1)):
+                run([a.rast, "bench"] + flags + ["--frames", a.frames, "--warmup", a.warmup, "--json", bj])
+                with open(bj) as f:
+                    b = json.load(f)
+                b = b[0] if isinstance(b, list) else b
+                times.append(b["total_median_ms"])
             film_rast = read_pfm(img)
-            row[f"rast_{method}_ms"] = b["total_median_ms"]
-            row[f"{method}_over_gl"] = b["total_median_ms"] / row["glblend_ms"]
+            row[f"rast_{method}_ms"] = min(times)
+            row[f"{method}_over_gl"] = min(times) / row["glblend_ms"]
             for film in films:
                 gl_film = read_pfm(os.path.join(tmp, f"gl_{film}.pfm"))
                 rmse, mx = errors(gl_film, film_rast)
