@@ -155,7 +155,8 @@ if gl:
         print(f"glblend {name}: against rast sorted RMSE {s[0]:.2e}, max {s[1]:.2e}, {s[2]} px off by 1e-5; "
               f"against exact RMSE {e[0]:.2e}, {e[3]} px off by 0.01")
         # The same arithmetic in the same order: float rounding at most, except
-        # where a vertex lands on a pixel centre and the fill rules part (a pixel or two).
+        # where an edge passes a pixel centre closer than the two rasterizers' sub-pixel
+        # precisions tell apart and their coverage parts (a pixel or two).
         if s[2] > 2 or (s[2] == 0 and s[0] > 1e-6):
             failures.append(f"{name}: sorted differs from the hardware's sorted blending: {s[2]} px off by 1e-5, "
                             f"RMSE {s[0]:.2e}")

@@ -57,13 +57,16 @@ struct Options {
 };
 
 [[noreturn]] void usage(const std::string& msg = "") {
-  if (!msg.empty()) std::fprintf(stderr, "glblend: error: %s\n", msg.c_str());
-  std::fprintf(stderr,
+  if (!msg.empty()) {  // one line, as rast's errors
+    std::fprintf(stderr, "glblend: error: %s (glblend --help)\n", msg.c_str());
+    std::exit(2);
+  }
+  std::fprintf(stdout,
                "usage: glblend SCENE.gltf|SCENE.glb [--size WxH] [--eye x,y,z] [--target x,y,z] [--up x,y,z]\n"
                "               [--fovy DEG] [--near N] [--far F] [--auto-camera] [--frames N] [--warmup N]\n"
                "               [--film rgba16f|rgba32f] [--no-sort] [--out-png F.png] [--out-pfm F.pfm]\n"
                "               [--json F.json] [--csv F.csv] [--egl auto|device|surfaceless|default] [--egl-device I]\n");
-  std::exit(2);
+  std::exit(0);  // --help
 }
 
 glm::dvec3 parseVec3(const char* s) {
