@@ -21,8 +21,10 @@
 #   .device/glref, .device/glref_src/            ../shared/tools/glref built here (the
 #                                                OpenGL yardstick, scripts/device/three_way.sh)
 #                                                and its gen_scenes.py, when found
+#   .device/glblend                              scripts/measure/glblend built here (OpenGL with
+#                                                sorted blending, scripts/device/transparency.sh), when found
 #
-# Usage: bash scripts/device/pack.sh [--cuda-build DIR] [--cpu-build DIR] [--glref PATH]
+# Usage: bash scripts/device/pack.sh [--cuda-build DIR] [--cpu-build DIR] [--glref PATH] [--glblend PATH]
 # Build first, e.g.:
 #   cmake --preset cuda && cmake --build build/cuda --target rast rast_tests
 #   cmake --preset openmp -B build/h-cudaref && cmake --build build/h-cudaref --target rast
@@ -34,9 +36,11 @@ cpu_build=$root/build/openmp
 assimp=${RAST_ASSIMP_GLTF_DIR:-/usr/share/assimp/models/glTF2}
 shared=${RAST_SHARED_DIR:-$root/../shared}
 glref=$cpu_build/tests/cli_glref_agreement/glref-build/glref
+glblend=$root/build/glblend/glblend
 while [ $# -gt 0 ]; do
   case $1 in
     --glref) glref=$2; shift 2 ;;
+    --glblend) glblend=$2; shift 2 ;;
     --cuda-build) cuda_build=$(cd "$2" && pwd); shift 2 ;;
     --cpu-build) cpu_build=$(cd "$2" && pwd); shift 2 ;;
     *) echo "pack.sh: unknown argument $1" >&2; exit 2 ;;
@@ -89,6 +93,12 @@ if [ -x "$glref" ]; then
   [ -f "$shared/tools/glref/gen_scenes.py" ] && cp "$shared/tools/glref/gen_scenes.py" "$dev/glref_src/"
 else
   echo "pack.sh: note: no glref at $glref (ctest cli_glref_agreement builds one); no OpenGL comparison" >&2
+fi
+if [ -x "$glblend" ]; then
+  cp "$glblend" "$dev/glblend"
+  strip "$dev/glblend" 2>/dev/null || true
+else
+  echo "pack.sh: note: no glblend at $glblend (cmake -S scripts/measure/glblend -B build/glblend); no blending comparison" >&2
 fi
 
 # Kernel-launch counter (Kokkos Tools library; run_suite.sh uses it when present).

@@ -10,12 +10,19 @@ depth, as `--transparency sorted` does), parallel, or with neighbours tilted
 opposite ways so that they intersect, or all at one depth (coplanar).
 
   scripts/measure/blend_scenes.py OUT_DIR    # writes layers_{parallel,intersecting,coplanar}.gltf
+  scripts/measure/blend_scenes.py OUT_DIR --full-screen
+      # also fullscreen_{0,8_mixed,64_alpha0.1}.gltf: builtin:layers?n=0, ?n=8&mixed=1 and
+      # ?n=64&alpha=0.1 (scenes/transparency_scenes.cpp) quad for quad, colour for colour,
+      # for the camera FULL_SCREEN_CAMERA (the built-in scenes' camera)
 
 Then scripts/measure/pbr_fidelity.py --extra-flags "--transparency sorted"
-OUT_DIR/*.gltf compares rast with the reference. Standard library only.
+OUT_DIR/*.gltf compares rast with the reference, and scripts/measure/blend_vs_gl.py
+times and compares rast with the hardware rasterizer's blending (glblend).
+Standard library only.
 """
 import base64
 import json
+import math
 import os
 import struct
 import sys
@@ -25,7 +32,17 @@ COLOURS = [(0.1, 0.3, 1.0), (0.1, 1.0, 0.2), (1.0, 0.9, 0.1), (0.9, 0.2, 0.9), (
            (1.0, 0.5, 0.1), (0.5, 0.2, 1.0), (0.9, 0.9, 0.9)]
 
 
-def scene(n, tilt, equal):
+# builtin:layers' geometry (scenes/transparency_scenes.cpp): the plane z = 0 seen
+# from (0, 0, 5) with fovy 45 spans about x in [-3.7, 3.7], y in [-2.07, 2.07].
+FS_HALF_H = 2.0710678
+FS_HALF_W = FS_HALF_H * 16.0 / 9.0
+FULL_SCREEN_CAMERA = ["--eye", "0,0,5", "--target", "0,0,0", "--up", "0,1,0", "--fovy", "45", "--near", "0.1",
+                      "--far", "100"]
+FULL_SCREEN = [("fullscreen_0", 0, 0.5, False), ("fullscreen_8_mixed", 8, 0.5, True),
+               ("fullscreen_64_alpha0.1", 64, 0.1, False)]
+
+
+def scene(n, tilt, equal, full_screen=None):
     pos, idx, nodes, meshes, materials, accessors, views = [], [], [], [], [], [], []
     blob = bytearray()
 
@@ -51,7 +68,22 @@ def scene(n, tilt, equal):
                                        "material": len(materials) - 1}]})
         nodes.append({"mesh": len(meshes) - 1})
 
-    quad(-1.0, 0.0, HALF_W * 1.5, HALF_H * 1.5, (1.0, 0.0, 0.0), 1.0, False)  # the backdrop
+    if full_screen is not None:  # builtin:layers?n=N&alpha=A[&mixed=1], submitted back to front
+        alpha, mixed = full_screen
+        quad(-1.0, 0.0, FS_HALF_W * 1.5, FS_HALF_H * 1.5, (1.0, 0.0, 0.0), 1.0, False)
+        for k in range(n):
+            layer = n - 1 - k  # layer 0 is the nearest
+            colour = (0.0, 0.0, 1.0)
+            a = alpha
+            if mixed:
+                h = 6.0 * layer / n
+                colour = (abs(math.fmod(h, 2.0) - 1.0), (layer % 3) / 2.0, float(1 - layer % 2))
+                a = 0.2 + 0.7 * math.fmod(layer * 0.618034, 1.0)
+            f32 = lambda v: struct.unpack("<f", struct.pack("<f", v))[0]  # noqa: E731 (rast rounds to float)
+            quad(-0.9 * layer / n, 0.0, FS_HALF_W * 1.2, FS_HALF_H * 1.2, tuple(f32(c) for c in colour), f32(a), True)
+        n = 0
+    else:
+        quad(-1.0, 0.0, HALF_W * 1.5, HALF_H * 1.5, (1.0, 0.0, 0.0), 1.0, False)  # the backdrop
     for layer in range(n):  # back to front, as builtin:layers submits them
         z = 0.0 if equal else -0.9 * (n - 1 - layer) / n
         slope = (0.08 if layer % 2 else -0.08) if tilt else 0.0
@@ -74,6 +106,12 @@ def main():
         with open(path, "w") as f:
             json.dump(scene(n, tilt, equal), f)
         print(path)
+    if "--full-screen" in sys.argv[2:]:
+        for name, n, alpha, mixed in FULL_SCREEN:
+            path = os.path.join(out, name + ".gltf")
+            with open(path, "w") as f:
+                json.dump(scene(n, False, False, (alpha, mixed)), f)
+            print(path)
 
 
 if __name__ == "__main__":
