@@ -36,7 +36,6 @@ constexpr int kPeelK = kOnDevice ? 8 : 16;
 // pixels of a row composite the same K triangles one after the other.
 constexpr int32_t kPeelRun = kOnDevice ? 1 : (1 << kItemShift);
 constexpr int kPeelCache = kOnDevice ? 1 : kPeelK;
-using PeelCache = FragCacheOf<kPeelCache>;
 constexpr uint64_t kNoKey = ~uint64_t(0);
 
 // A listed triangle's set-up for its items: edges, box, and per edge the
@@ -146,7 +145,10 @@ struct TileScan {
   }
 };
 
+// The resolve for the frame's fragment family and features (frag_shade.h).
+template <int kFam, int kFeat>
 struct Peel {
+  using PeelCache = FragCacheOf<kPeelCache, kFam>;
   FragShade fs;
   DView<float4> hdr;
   DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
@@ -155,7 +157,7 @@ struct Peel {
   int32_t width, height, blocksX, sorted;
 
   // sorted's key: its triangle's, whatever the sample.
-  KOKKOS_INLINE_FUNCTION uint64_t sortedKeyOf(uint32_t i) const {
+  RAST_GPU_INLINE uint64_t sortedKeyOf(uint32_t i) const {
     const AlphaScene& sc = fs.sc;
     return fs.sortedKey(drawOf(sc.triDraw, sc.drawTriStart, sc.numDraws, sc.tris(i).prim), i);
   }
@@ -164,7 +166,7 @@ struct Peel {
   // (key is below best[kPeelK - 1]). On a GPU each step keeps the smaller of
   // the two and carries the larger on (compile-time indices: registers); a
   // CPU shifts the larger ones up from the end, as far as the key goes.
-  KOKKOS_INLINE_FUNCTION static void insert(uint64_t (&best)[kPeelK], uint64_t key, uint32_t held) {
+  RAST_GPU_INLINE static void insert(uint64_t (&best)[kPeelK], uint64_t key, uint32_t held) {
     if (kOnDevice) {
 #if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
 #pragma unroll
@@ -183,7 +185,7 @@ struct Peel {
 
   // Work items: on a GPU one pixel, numbered 64 a block (block-major); on a
   // CPU one block.
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item, uint64_t& frags) const {
+  RAST_FLATTEN void operator()(const int64_t item, uint64_t& frags) const {
     const int64_t block = kPeelRun == 1 ? item >> (2 * kItemShift) : item;
     const int32_t bx = int32_t(block % blocksX), by = int32_t(block / blocksX);
     // A list that overflowed its capacity is not read: the frame is drawn again.
@@ -202,7 +204,7 @@ struct Peel {
   }
 
   // Pixels x0 .. x0 + run - 1 of row Y, whose block's list is [begin, end).
-  KOKKOS_INLINE_FUNCTION void row(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
+  RAST_GPU_INLINE void row(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
                                   const uint32_t end, PeelCache& cache, uint64_t& frags) const {
     const int S = fs.sp.count;
     float4 sum[kPeelRun];
@@ -270,7 +272,7 @@ struct Peel {
             const uint64_t key = best[r][kOnDevice ? 0 : k];
             if (kOnDevice)
               for (int m = 0; m + 1 < kPeelK; ++m) best[r][m] = best[r][m + 1];
-            const float4 c = cache.at(fs, keyIndex(key, sorted != 0), x0 + r, Y, s);
+            const float4 c = cache.template at<kFeat>(fs, keyIndex(key, sorted != 0), x0 + r, Y, s);
             if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
           }
           more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
@@ -288,6 +290,30 @@ struct Peel {
         }
       }
     }
+  }
+};
+
+// peelResolve's launch of the frame's instance (withFragPath).
+struct PeelLaunch {
+  const FragShade& fs;
+  const FrameBuffers& f;
+  const Kokkos::Sum<uint64_t, Mem>& result;
+  int64_t items;
+  int32_t blocksX, sorted;
+  template <int kFam, int kFeat>
+  void run() const {
+    const BlendBuffers& bb = f.blend;
+    const Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
+                                 bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted};
+    // The specialised resolves keep everything inline (nothing takes a
+    // local's address) and launch lightweight, as the shade stage's lit and
+    // glTF kernels; the general one calls the general fragment maths out
+    // of line on a GPU and launches heavyweight (pipeline/data/device.h).
+    static_assert(!kOnDevice || sizeof(peel) <= 4000, "a lightweight launch carries its functor in 4 KiB of parameters");
+    if constexpr (kFam == kFragGeneral)
+      Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)), peel, result);
+    else
+      Kokkos::parallel_reduce("rast::blend::resolve", lightweight(Range(0, items)), peel, result);
   }
 };
 
@@ -330,11 +356,8 @@ void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, co
   // one atomic a pixel; the depth's maximum (cleared with it by blendCollect)
   // rises a few times a frame.
   const Kokkos::Sum<uint64_t, Mem> result(Kokkos::View<uint64_t, Mem>(bb.totals.data() + kBlendFrags));
-  Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)),
-                          Peel{makeFragShade(s, f, p, lights), f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris,
-                               bb.opaque, bb.totals, bb.tileCapacity, f.vp.width, f.vp.height, blocksX,
-                               sorted ? 1 : 0},
-                          result);
+  const FragShade fs = makeFragShade(s, f, p, lights);
+  withFragPath(fs, PeelLaunch{fs, f, result, items, blocksX, sorted ? 1 : 0});
 }
 
 }  // namespace blending
