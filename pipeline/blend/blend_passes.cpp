@@ -43,7 +43,7 @@ struct Collect {
   Viewport vp;
   uint32_t capacity, threads;
   int32_t method, k;
-  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t th) const {
+  RAST_FLATTEN void operator()(const uint32_t th) const {
     const uint64_t total = totals(kBlendItems);
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     AlphaTri a, a2;
@@ -95,7 +95,7 @@ struct Resolve {
   DView<uint64_t> slots;
   int32_t width, method, k, runsPerRow;
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
+  RAST_FLATTEN void operator()(const int64_t item) const {
     const int32_t Y = int32_t(item / runsPerRow), x0 = int32_t(item - int64_t(Y) * runsPerRow) * kResolveRun;
     const int32_t x1 = x0 + kResolveRun < width ? x0 + kResolveRun : width;
     FragCache<kFam> c;

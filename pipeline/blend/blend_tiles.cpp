@@ -17,6 +17,7 @@
 // peeling, in registers). A pass costs a walk of the list; a sample of L
 // layers takes ceil(L / K) passes until its transmittance reaches 0.
 #include "pipeline/blend/frag_shade.h"
+#include "pipeline/cpu/span_math.h"
 
 namespace rast {
 namespace blending {
@@ -155,6 +156,7 @@ struct Peel {
   DView<uint64_t> totals;
   uint64_t tileCapacity;
   int32_t width, height, blocksX, sorted;
+  int32_t lambertLanes = 0;  // Lambert under the headlight (compositeLanes)
 
   // sorted's key: its triangle's, whatever the sample.
   RAST_GPU_INLINE uint64_t sortedKeyOf(uint32_t i) const {
@@ -201,6 +203,92 @@ struct Peel {
     const int32_t x0 = bx << kItemShift, run = x0 + kPeelRun < width ? kPeelRun : width - x0;
     for (int32_t Y = by << kItemShift; Y < ((by + 1) << kItemShift) && Y < height; ++Y)
       row(x0, Y, run, begin, end, cache, frags);
+  }
+
+  // A CPU, Lambert under the headlight without vertex colours: the k-th
+  // fragments of a run's pixels, when they are one triangle's (layers over
+  // a block: mostly), lit together by the span shader's vector loop
+  // (pipeline/cpu/span_math.h, spanLightingLanesWide: Shade::shadeFragment's
+  // expressions in its order, the same bits), each pixel still composited
+  // front to back and stopped where it is opaque. Others one at a time.
+  static constexpr bool kLanes = !kOnDevice && kFam == kFragLit && kFeat == 0;
+  KOKKOS_INLINE_FUNCTION void compositeLanes(const int32_t x0, const int32_t Y, const int s, const int32_t run,
+                                             const uint64_t (&best)[kPeelRun][kPeelK], const uint32_t (&cnt)[kPeelRun],
+                                             const bool (&more)[kPeelRun], float3 (&acc)[kPeelRun],
+                                             float (&T)[kPeelRun], PeelCache& cache) const {
+    using shading::SpanConsts;
+    for (int k = 0; k < kPeelK; ++k) {
+      int32_t m = 0;
+      int lane[kPeelRun];
+      uint32_t tri = ~0u;
+      bool same = true;
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        if (!more[r] || !(k < int(cnt[r])) || !(T[r] > 0.0f)) continue;
+        const uint32_t idx = keyIndex(best[r][k], sorted != 0);
+        same = same && (m == 0 || idx == tri);
+        tri = idx;
+        lane[m++] = r;
+      }
+      if (m == 0) break;
+      if (same && m > 1) {
+        const int e = cache.slot(tri);
+        if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
+        fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
+        cache.evS[e] = -1;  // its stepped edge values are not this row's
+        const AlphaTri& a = cache.a[e];
+        const TriFrag& f = cache.tf[e];
+        if (!a.textured && !fs.sc.hasColor && !f.textured) {
+          const float alpha = cleanAlpha(a.alpha);  // AlphaScene::alphaFrom of a constant alpha
+          if (!(alpha > 0.0f)) continue;           // no fragment
+          const RasterTri& t = *f.t;
+          const Edges& E = f.e;
+          const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+          SpanConsts c;
+          // E_i at the sample of pixel (X, Y): A_i X + B_i Y + C_i plus the
+          // sample's offset (Edges::atSample), exact integers in double.
+          c.a0 = double(E.A[0]);
+          c.a1 = double(E.A[1]);
+          c.a2 = double(E.A[2]);
+          c.r0 = double(E.B[0]);
+          c.r1 = double(E.B[1]);
+          c.r2 = double(E.B[2]);
+          c.k0 = double(E.atSample(0, E.C[0], ox, oy));
+          c.k1 = double(E.atSample(1, E.C[1], ox, oy));
+          c.k2 = double(E.atSample(2, E.C[2], ox, oy));
+          c.ia = t.invArea;
+          const bool persp = fs.sh.p.perspective != 0;
+          c.iw0 = persp ? t.invW[0] : 1.0f;
+          c.iw1 = persp ? t.invW[1] : 1.0f;
+          c.iw2 = persp ? t.invW[2] : 1.0f;
+          c.t00 = t.bary[0][0]; c.t10 = t.bary[1][0]; c.t20 = t.bary[2][0];
+          c.t01 = t.bary[0][1]; c.t11 = t.bary[1][1]; c.t21 = t.bary[2][1];
+          c.n0 = f.n[0]; c.n1 = f.n[1]; c.n2 = f.n[2];
+          c.q0 = f.pos[0]; c.q1 = f.pos[1]; c.q2 = f.pos[2];
+          c.eye = f.eye;
+          c.ambient = fs.sh.p.ambient;
+          c.headI = 1.0f - fs.sh.p.ambient;
+          alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
+          alignas(32) float b0[kPeelRun], b1[kPeelRun], b2[kPeelRun], nx[kPeelRun], ny[kPeelRun], nz[kPeelRun],
+              diffuse[kPeelRun];
+          for (int j = 0; j < m; ++j) {
+            X[j] = x0 + lane[j];
+            Ys[j] = Y;
+          }
+          shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
+          const float4 base = f.baseColor;
+          for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)
+            const float3 rgb = float3{base.x, base.y, base.z} * diffuse[j] + float3{0.0f, 0.0f, 0.0f};
+            over(acc[lane[j]], T[lane[j]], float4{rgb.x, rgb.y, rgb.z, alpha});
+          }
+          continue;
+        }
+      }
+      for (int j = 0; j < m; ++j) {
+        const int r = lane[j];
+        const float4 c = cache.template at<kFeat>(fs, keyIndex(best[r][k], sorted != 0), x0 + r, Y, s);
+        if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
+      }
+    }
   }
 
   // Pixels x0 .. x0 + run - 1 of row Y, whose block's list is [begin, end).
@@ -257,12 +345,14 @@ struct Peel {
             ++cnt[r];
           }
         }
+        const bool lanes = kLanes && lambertLanes && run > 1;
         for (int r = 0; r < kPeelRun && r < run; ++r) {
           if (!more[r]) continue;
           if (first) {  // the statistics: every fragment in front of the opaque depth
             frags += cnt[r];
             if (cnt[r] > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt[r]));
           }
+          if (lanes) continue;  // composited below, the run's pixels together
           // Front to back: on a GPU the nearest taken from the front of the
           // array and the rest shifted up (compile-time indices, one shading
           // call); a CPU indexes the array.
@@ -277,6 +367,16 @@ struct Peel {
           }
           more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
           after[r] = lastKey;
+        }
+        if constexpr (kLanes) {
+          if (lanes) {
+            compositeLanes(x0, Y, s, run, best, cnt, more, acc, T, cache);
+            for (int r = 0; r < kPeelRun && r < run; ++r) {
+              if (!more[r]) continue;
+              more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
+              after[r] = best[r][kPeelK - 1];
+            }
+          }
         }
       }
       for (int r = 0; r < kPeelRun && r < run; ++r) {
@@ -304,7 +404,8 @@ struct PeelLaunch {
   void run() const {
     const BlendBuffers& bb = f.blend;
     const Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
-                                 bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted};
+                                 bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted,
+                                 fs.sh.p.mode == ShadingMode::Lambert && fs.sh.p.headlight ? 1 : 0};
     // The specialised resolves keep everything inline (nothing takes a
     // local's address) and launch lightweight, as the shade stage's lit and
     // glTF kernels; the general one calls the general fragment maths out
