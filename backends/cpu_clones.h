@@ -20,8 +20,8 @@
 #include <Kokkos_Core.hpp>
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__CUDACC__) && !defined(__HIPCC__)
-#define RAST_CPU_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"))) static
-#define RAST_CPU_CLONES_GATHER __attribute__((target_clones("avx2", "default"))) static
+#define RAST_CPU_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default"), unused)) static
+#define RAST_CPU_CLONES_GATHER __attribute__((target_clones("avx2", "default"), unused)) static
 #else
 #define RAST_CPU_CLONES KOKKOS_INLINE_FUNCTION
 #define RAST_CPU_CLONES_GATHER KOKKOS_INLINE_FUNCTION

@@ -8,6 +8,7 @@
 // the exact edge values and depth the raster methods use.
 #pragma once
 
+#include "backends/flatten.h"
 #include "pipeline/data/device_scene.h"
 #include "pipeline/data/frame_buffers.h"
 #include "pipeline/rules/raster_rules.h"
@@ -66,7 +67,7 @@ struct AlphaScene {
   uint32_t numDraws = 0;
   int32_t hasUV = 0, hasColor = 0, perspective = 1, nearest = 0;  // nearest: 0 bilinear, 1 nearest, 2 per sampler
 
-  KOKKOS_INLINE_FUNCTION void prepare(uint32_t index, AlphaTri& a) const {
+  RAST_GPU_INLINE void prepare(uint32_t index, AlphaTri& a) const {
     a.index = index;
     const RasterTri& t = tris(index);
     a.invArea = t.invArea;
@@ -106,7 +107,14 @@ struct AlphaScene {
     if (!a.textured && !hasColor) return cleanAlpha(alpha);
     float b1, b2;
     drawnBarycentrics(E0, E1, E2, a.invArea, a.invW, a.corner, perspective != 0, b1, b2);
-    const float b0 = 1.0f - b1 - b2;
+    return alphaFrom(a, 1.0f - b1 - b2, b1, b2);
+  }
+  // The same from the barycentrics (b0 = 1 - b1 - b2, as above): the BLEND
+  // resolve's specialised shading (frag_shade.h) has them already, the same
+  // bits (the triangle's terms and the perspective flag are the shade stage's).
+  RAST_GPU_INLINE float alphaFrom(const AlphaTri& a, float b0, float b1, float b2) const {
+    float alpha = a.alpha;
+    if (!a.textured && !hasColor) return cleanAlpha(alpha);
     if (a.textured) {
       const float u = a.uv[0].x * b0 + a.uv[1].x * b1 + a.uv[2].x * b2;
       const float v = a.uv[0].y * b0 + a.uv[1].y * b1 + a.uv[2].y * b2;

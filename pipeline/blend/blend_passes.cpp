@@ -12,6 +12,7 @@
 // light) over the opaque colour, the samples averaged (exact and sorted:
 // blend_tiles.cpp, peeling the tile lists in registers).
 #include "pipeline/blend/frag_shade.h"
+#include "pipeline/data/test_hooks.h"
 
 namespace rast {
 namespace {
@@ -28,6 +29,11 @@ KOKKOS_INLINE_FUNCTION void addWeighted(float4& acc, float& rev, const float4 c,
   Kokkos::atomic_fetch_mul(&rev, 1.0f - c.w);
 }
 
+// The collect and resolve passes are compiled for the frame's fragment
+// family and features (frag_shade.h), as the exact resolve is: every method
+// shades a fragment with the same code, so that kbuffer with k >= layers
+// keeps exact's bits on every backend.
+template <int kFam, int kFeat>
 struct Collect {
   FragShade fs;
   DView<uint64_t> start, totals, vis, slots;
@@ -37,11 +43,12 @@ struct Collect {
   Viewport vp;
   uint32_t capacity, threads;
   int32_t method, k;
-  KOKKOS_INLINE_FUNCTION void operator()(const uint32_t th) const {
+  RAST_FLATTEN void operator()(const uint32_t th) const {
     const uint64_t total = totals(kBlendItems);
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     AlphaTri a, a2;
     TriFrag tf, tf2;
+    FragPbrTri<kFam> pt, pt2;
     for (uint64_t w = th; w < total; w += threads) {
       const uint32_t i = itemOwner(start, n, w);
       if (i != a.index) fs.sc.prepare(i, a);
@@ -51,14 +58,15 @@ struct Collect {
                        if (!(floatBits(z) < uint32_t(vis(q) >> 32))) return;
                        const float alpha = fs.sc.alphaAt(a, e0, e1, e2);
                        if (!(alpha > 0.0f)) return;
-                       fragment(q, X, Y, s, i, z, alpha, a, tf, a2, tf2);
+                       fragment(q, X, Y, s, i, z, alpha, a, tf, pt, a2, tf2, pt2);
                      });
     }
   }
   KOKKOS_INLINE_FUNCTION void fragment(int64_t q, int32_t X, int32_t Y, int s, uint32_t i, float z, float alpha,
-                                       AlphaTri& a, TriFrag& tf, AlphaTri& a2, TriFrag& tf2) const {
+                                       AlphaTri& a, TriFrag& tf, FragPbrTri<kFam>& pt, AlphaTri& a2, TriFrag& tf2,
+                                       FragPbrTri<kFam>& pt2) const {
     if (method == int32_t(Transparency::Weighted)) {
-      const float4 c = fs.at(i, X, Y, s, a, tf);
+      const float4 c = fs.template at<kFam, kFeat>(i, X, Y, s, a, tf, pt);
       addWeighted(accum(q), reveal(q), c, fs.weight(z));
       return;
     }
@@ -71,7 +79,7 @@ struct Collect {
       key = old > key ? old : key;
     }
     (void)alpha;
-    const float4 c = fs.at(uint32_t(key & 0xffffffffu) - 1u, X, Y, s, a2, tf2);
+    const float4 c = fs.template at<kFam, kFeat>(uint32_t(key & 0xffffffffu) - 1u, X, Y, s, a2, tf2, pt2);
     addWeighted(accum(q), reveal(q), c, 1.0f);
   }
 };
@@ -79,6 +87,7 @@ struct Collect {
 // The resolve's work item (kbuffer, weighted): a run of kResolveRun pixels
 // along a row, sharing one FragCache; a GPU resolves a pixel a thread.
 constexpr int32_t kResolveRun = kOnDevice ? 1 : 16;
+template <int kFam, int kFeat>
 struct Resolve {
   FragShade fs;
   DView<float4> hdr, accum;
@@ -86,14 +95,14 @@ struct Resolve {
   DView<uint64_t> slots;
   int32_t width, method, k, runsPerRow;
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item) const {
+  RAST_FLATTEN void operator()(const int64_t item) const {
     const int32_t Y = int32_t(item / runsPerRow), x0 = int32_t(item - int64_t(Y) * runsPerRow) * kResolveRun;
     const int32_t x1 = x0 + kResolveRun < width ? x0 + kResolveRun : width;
-    FragCache c;
+    FragCache<kFam> c;
     for (int32_t X = x0; X < x1; ++X) pixel(int64_t(Y) * width + X, X, Y, c);
   }
 
-  KOKKOS_INLINE_FUNCTION void pixel(const int64_t i, const int32_t X, const int32_t Y, FragCache& cache) const {
+  KOKKOS_INLINE_FUNCTION void pixel(const int64_t i, const int32_t X, const int32_t Y, FragCache<kFam>& cache) const {
     const int S = fs.sp.count;
     const float4 opq = hdr(i);
     float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
@@ -110,7 +119,7 @@ struct Resolve {
       } else if (method == int32_t(Transparency::KBuffer)) {
         const uint64_t* sl = slots.data() + size_t(q) * size_t(k);
         for (int j = 0; j < k && sl[j] != kEmptySlot && T > 0.0f; ++j)
-          over(acc, T, cache.at(fs, uint32_t(sl[j]) - 1u, X, Y, s));
+          over(acc, T, cache.template at<kFeat>(fs, uint32_t(sl[j]) - 1u, X, Y, s));
         const float4 w = accum(q);
         if (w.w > 0.0f) {  // the merged rest, behind the k nearest
           const float A = 1.0f - reveal(q);
@@ -128,6 +137,36 @@ struct Resolve {
   }
 };
 
+// The launches of the frame's instances (withFragPath): heavyweight, as
+// the collect's atomics and the general fragment maths leave code out of
+// line on a GPU.
+struct CollectLaunch {
+  const FragShade& fs;
+  const FrameBuffers& f;
+  uint32_t threads;
+  int32_t method, k;
+  template <int kFam, int kFeat>
+  void run() const {
+    const BlendBuffers& bb = f.blend;
+    using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
+    Kokkos::parallel_for("rast::blend::collect", heavyweight(Policy(0, threads)),
+                         Collect<kFam, kFeat>{fs, bb.blendStart, bb.totals, f.vis, bb.slots, f.counters, bb.accum,
+                                              bb.reveal, f.vp, f.triCapacity, threads, method, k});
+  }
+};
+struct ResolveLaunch {
+  const FragShade& fs;
+  const FrameBuffers& f;
+  Range items;
+  int32_t method, k, runs;
+  template <int kFam, int kFeat>
+  void run() const {
+    const BlendBuffers& bb = f.blend;
+    Kokkos::parallel_for("rast::blend::resolve", heavyweight(items),
+                         Resolve<kFam, kFeat>{fs, f.post.hdr, bb.accum, bb.reveal, bb.slots, f.vp.width, method, k, runs});
+  }
+};
+
 }  // namespace
 
 FragShade blending::makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p,
@@ -135,6 +174,15 @@ FragShade blending::makeFragShade(const DeviceScene& s, FrameBuffers& f, const S
   ShadeParams q = p;
   q.wantDepth = q.wantPrimId = q.wantNormals = q.wantGeom = 0;  // outputs are the opaque pass's
   return FragShade{makeAlphaScene(s, f, p.filter, p.perspective != 0), makeShade(s, f, q, lights), f.vp.samples};
+}
+
+FragFamily blending::fragFamily(const FragShade& fs) {
+  const ShadeParams& p = fs.sh.p;
+  if (testHooks().generalShade) return kFragGeneral;  // tests compare the paths
+  if ((p.mode == ShadingMode::Lambert || p.mode == ShadingMode::BlinnPhong) && p.filter != TexFilter::Trilinear)
+    return kFragLit;
+  if (p.mode == ShadingMode::Pbr) return kFragPbr;
+  return kFragGeneral;
 }
 
 uint64_t blendBytesPerSample(const BlendPlan& b) {
@@ -179,10 +227,8 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
     Kokkos::deep_copy(Exec(), Kokkos::subview(bb.slots, std::make_pair(size_t(0), n * size_t(b.k))), kEmptySlot);
   }
   const uint32_t threads = persistentThreads();
-  Collect c{makeFragShade(s, f, p, lights), bb.blendStart, bb.totals, f.vis, bb.slots, f.counters,
-            bb.accum, bb.reveal, f.vp, f.triCapacity, threads, int32_t(b.method), b.k};
-  using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
-  Kokkos::parallel_for("rast::blend::collect", heavyweight(Policy(0, threads)), c);
+  const FragShade fs = makeFragShade(s, f, p, lights);
+  withFragPath(fs, CollectLaunch{fs, f, threads, int32_t(b.method), b.k});
 }
 
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
@@ -191,11 +237,9 @@ void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
     peelResolve(s, f, p, lights, b.method == Transparency::Sorted);
     return;
   }
-  const BlendBuffers& bb = f.blend;
   const int32_t runs = (f.vp.width + kResolveRun - 1) / kResolveRun;
-  Kokkos::parallel_for("rast::blend::resolve", heavyweight(Range(0, int64_t(runs) * f.vp.height)),
-                       Resolve{makeFragShade(s, f, p, lights), f.post.hdr, bb.accum, bb.reveal, bb.slots, f.vp.width,
-                               int32_t(b.method), b.k, runs});
+  const FragShade fs = makeFragShade(s, f, p, lights);
+  withFragPath(fs, ResolveLaunch{fs, f, Range(0, int64_t(runs) * f.vp.height), int32_t(b.method), b.k, runs});
 }
 
 }  // namespace rast

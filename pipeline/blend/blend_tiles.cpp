@@ -17,6 +17,7 @@
 // peeling, in registers). A pass costs a walk of the list; a sample of L
 // layers takes ceil(L / K) passes until its transmittance reaches 0.
 #include "pipeline/blend/frag_shade.h"
+#include "pipeline/cpu/span_math.h"
 
 namespace rast {
 namespace blending {
@@ -36,7 +37,6 @@ constexpr int kPeelK = kOnDevice ? 8 : 16;
 // pixels of a row composite the same K triangles one after the other.
 constexpr int32_t kPeelRun = kOnDevice ? 1 : (1 << kItemShift);
 constexpr int kPeelCache = kOnDevice ? 1 : kPeelK;
-using PeelCache = FragCacheOf<kPeelCache>;
 constexpr uint64_t kNoKey = ~uint64_t(0);
 
 // A listed triangle's set-up for its items: edges, box, and per edge the
@@ -146,16 +146,20 @@ struct TileScan {
   }
 };
 
+// The resolve for the frame's fragment family and features (frag_shade.h).
+template <int kFam, int kFeat>
 struct Peel {
+  using PeelCache = FragCacheOf<kPeelCache, kFam>;
   FragShade fs;
   DView<float4> hdr;
   DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
   DView<uint64_t> totals;
   uint64_t tileCapacity;
   int32_t width, height, blocksX, sorted;
+  int32_t lambertLanes = 0;  // Lambert under the headlight (compositeLanes)
 
   // sorted's key: its triangle's, whatever the sample.
-  KOKKOS_INLINE_FUNCTION uint64_t sortedKeyOf(uint32_t i) const {
+  RAST_GPU_INLINE uint64_t sortedKeyOf(uint32_t i) const {
     const AlphaScene& sc = fs.sc;
     return fs.sortedKey(drawOf(sc.triDraw, sc.drawTriStart, sc.numDraws, sc.tris(i).prim), i);
   }
@@ -164,7 +168,7 @@ struct Peel {
   // (key is below best[kPeelK - 1]). On a GPU each step keeps the smaller of
   // the two and carries the larger on (compile-time indices: registers); a
   // CPU shifts the larger ones up from the end, as far as the key goes.
-  KOKKOS_INLINE_FUNCTION static void insert(uint64_t (&best)[kPeelK], uint64_t key, uint32_t held) {
+  RAST_GPU_INLINE static void insert(uint64_t (&best)[kPeelK], uint64_t key, uint32_t held) {
     if (kOnDevice) {
 #if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
 #pragma unroll
@@ -183,7 +187,7 @@ struct Peel {
 
   // Work items: on a GPU one pixel, numbered 64 a block (block-major); on a
   // CPU one block.
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t item, uint64_t& frags) const {
+  RAST_FLATTEN void operator()(const int64_t item, uint64_t& frags) const {
     const int64_t block = kPeelRun == 1 ? item >> (2 * kItemShift) : item;
     const int32_t bx = int32_t(block % blocksX), by = int32_t(block / blocksX);
     // A list that overflowed its capacity is not read: the frame is drawn again.
@@ -201,8 +205,94 @@ struct Peel {
       row(x0, Y, run, begin, end, cache, frags);
   }
 
+  // A CPU, Lambert under the headlight without vertex colours: the k-th
+  // fragments of a run's pixels, when they are one triangle's (layers over
+  // a block: mostly), lit together by the span shader's vector loop
+  // (pipeline/cpu/span_math.h, spanLightingLanesWide: Shade::shadeFragment's
+  // expressions in its order, the same bits), each pixel still composited
+  // front to back and stopped where it is opaque. Others one at a time.
+  static constexpr bool kLanes = !kOnDevice && kFam == kFragLit && kFeat == 0;
+  KOKKOS_INLINE_FUNCTION void compositeLanes(const int32_t x0, const int32_t Y, const int s, const int32_t run,
+                                             const uint64_t (&best)[kPeelRun][kPeelK], const uint32_t (&cnt)[kPeelRun],
+                                             const bool (&more)[kPeelRun], float3 (&acc)[kPeelRun],
+                                             float (&T)[kPeelRun], PeelCache& cache) const {
+    using shading::SpanConsts;
+    for (int k = 0; k < kPeelK; ++k) {
+      int32_t m = 0;
+      int lane[kPeelRun];
+      uint32_t tri = ~0u;
+      bool same = true;
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        if (!more[r] || !(k < int(cnt[r])) || !(T[r] > 0.0f)) continue;
+        const uint32_t idx = keyIndex(best[r][k], sorted != 0);
+        same = same && (m == 0 || idx == tri);
+        tri = idx;
+        lane[m++] = r;
+      }
+      if (m == 0) break;
+      if (same && m > 1) {
+        const int e = cache.slot(tri);
+        if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
+        fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
+        cache.evS[e] = -1;  // its stepped edge values are not this row's
+        const AlphaTri& a = cache.a[e];
+        const TriFrag& f = cache.tf[e];
+        if (!a.textured && !fs.sc.hasColor && !f.textured) {
+          const float alpha = cleanAlpha(a.alpha);  // AlphaScene::alphaFrom of a constant alpha
+          if (!(alpha > 0.0f)) continue;           // no fragment
+          const RasterTri& t = *f.t;
+          const Edges& E = f.e;
+          const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+          SpanConsts c;
+          // E_i at the sample of pixel (X, Y): A_i X + B_i Y + C_i plus the
+          // sample's offset (Edges::atSample), exact integers in double.
+          c.a0 = double(E.A[0]);
+          c.a1 = double(E.A[1]);
+          c.a2 = double(E.A[2]);
+          c.r0 = double(E.B[0]);
+          c.r1 = double(E.B[1]);
+          c.r2 = double(E.B[2]);
+          c.k0 = double(E.atSample(0, E.C[0], ox, oy));
+          c.k1 = double(E.atSample(1, E.C[1], ox, oy));
+          c.k2 = double(E.atSample(2, E.C[2], ox, oy));
+          c.ia = t.invArea;
+          const bool persp = fs.sh.p.perspective != 0;
+          c.iw0 = persp ? t.invW[0] : 1.0f;
+          c.iw1 = persp ? t.invW[1] : 1.0f;
+          c.iw2 = persp ? t.invW[2] : 1.0f;
+          c.t00 = t.bary[0][0]; c.t10 = t.bary[1][0]; c.t20 = t.bary[2][0];
+          c.t01 = t.bary[0][1]; c.t11 = t.bary[1][1]; c.t21 = t.bary[2][1];
+          c.n0 = f.n[0]; c.n1 = f.n[1]; c.n2 = f.n[2];
+          c.q0 = f.pos[0]; c.q1 = f.pos[1]; c.q2 = f.pos[2];
+          c.eye = f.eye;
+          c.ambient = fs.sh.p.ambient;
+          c.headI = 1.0f - fs.sh.p.ambient;
+          alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
+          alignas(32) float b0[kPeelRun], b1[kPeelRun], b2[kPeelRun], nx[kPeelRun], ny[kPeelRun], nz[kPeelRun],
+              diffuse[kPeelRun];
+          for (int j = 0; j < m; ++j) {
+            X[j] = x0 + lane[j];
+            Ys[j] = Y;
+          }
+          shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
+          const float4 base = f.baseColor;
+          for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)
+            const float3 rgb = float3{base.x, base.y, base.z} * diffuse[j] + float3{0.0f, 0.0f, 0.0f};
+            over(acc[lane[j]], T[lane[j]], float4{rgb.x, rgb.y, rgb.z, alpha});
+          }
+          continue;
+        }
+      }
+      for (int j = 0; j < m; ++j) {
+        const int r = lane[j];
+        const float4 c = cache.template at<kFeat>(fs, keyIndex(best[r][k], sorted != 0), x0 + r, Y, s);
+        if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
+      }
+    }
+  }
+
   // Pixels x0 .. x0 + run - 1 of row Y, whose block's list is [begin, end).
-  KOKKOS_INLINE_FUNCTION void row(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
+  RAST_GPU_INLINE void row(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
                                   const uint32_t end, PeelCache& cache, uint64_t& frags) const {
     const int S = fs.sp.count;
     float4 sum[kPeelRun];
@@ -255,12 +345,14 @@ struct Peel {
             ++cnt[r];
           }
         }
+        const bool lanes = kLanes && lambertLanes && run > 1;
         for (int r = 0; r < kPeelRun && r < run; ++r) {
           if (!more[r]) continue;
           if (first) {  // the statistics: every fragment in front of the opaque depth
             frags += cnt[r];
             if (cnt[r] > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt[r]));
           }
+          if (lanes) continue;  // composited below, the run's pixels together
           // Front to back: on a GPU the nearest taken from the front of the
           // array and the rest shifted up (compile-time indices, one shading
           // call); a CPU indexes the array.
@@ -270,11 +362,21 @@ struct Peel {
             const uint64_t key = best[r][kOnDevice ? 0 : k];
             if (kOnDevice)
               for (int m = 0; m + 1 < kPeelK; ++m) best[r][m] = best[r][m + 1];
-            const float4 c = cache.at(fs, keyIndex(key, sorted != 0), x0 + r, Y, s);
+            const float4 c = cache.template at<kFeat>(fs, keyIndex(key, sorted != 0), x0 + r, Y, s);
             if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
           }
           more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
           after[r] = lastKey;
+        }
+        if constexpr (kLanes) {
+          if (lanes) {
+            compositeLanes(x0, Y, s, run, best, cnt, more, acc, T, cache);
+            for (int r = 0; r < kPeelRun && r < run; ++r) {
+              if (!more[r]) continue;
+              more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
+              after[r] = best[r][kPeelK - 1];
+            }
+          }
         }
       }
       for (int r = 0; r < kPeelRun && r < run; ++r) {
@@ -288,6 +390,31 @@ struct Peel {
         }
       }
     }
+  }
+};
+
+// peelResolve's launch of the frame's instance (withFragPath).
+struct PeelLaunch {
+  const FragShade& fs;
+  const FrameBuffers& f;
+  const Kokkos::Sum<uint64_t, Mem>& result;
+  int64_t items;
+  int32_t blocksX, sorted;
+  template <int kFam, int kFeat>
+  void run() const {
+    const BlendBuffers& bb = f.blend;
+    const Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
+                                 bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted,
+                                 fs.sh.p.mode == ShadingMode::Lambert && fs.sh.p.headlight ? 1 : 0};
+    // The specialised resolves keep everything inline (nothing takes a
+    // local's address) and launch lightweight, as the shade stage's lit and
+    // glTF kernels; the general one calls the general fragment maths out
+    // of line on a GPU and launches heavyweight (pipeline/data/device.h).
+    static_assert(!kOnDevice || sizeof(peel) <= 4000, "a lightweight launch carries its functor in 4 KiB of parameters");
+    if constexpr (kFam == kFragGeneral)
+      Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)), peel, result);
+    else
+      Kokkos::parallel_reduce("rast::blend::resolve", lightweight(Range(0, items)), peel, result);
   }
 };
 
@@ -330,11 +457,8 @@ void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, co
   // one atomic a pixel; the depth's maximum (cleared with it by blendCollect)
   // rises a few times a frame.
   const Kokkos::Sum<uint64_t, Mem> result(Kokkos::View<uint64_t, Mem>(bb.totals.data() + kBlendFrags));
-  Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)),
-                          Peel{makeFragShade(s, f, p, lights), f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris,
-                               bb.opaque, bb.totals, bb.tileCapacity, f.vp.width, f.vp.height, blocksX,
-                               sorted ? 1 : 0},
-                          result);
+  const FragShade fs = makeFragShade(s, f, p, lights);
+  withFragPath(fs, PeelLaunch{fs, f, result, items, blocksX, sorted ? 1 : 0});
 }
 
 }  // namespace blending

@@ -7,6 +7,9 @@
 // k >= layers gives exact's bits.
 #pragma once
 
+#include <type_traits>
+
+#include "backends/flatten.h"
 #include "pipeline/blend/alpha_fragment.h"
 #include "pipeline/blend/blend.h"
 #include "pipeline/shade/shade_fragment.h"
@@ -23,27 +26,86 @@ KOKKOS_INLINE_FUNCTION uint32_t orderBits(float v) {
   return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
 }
 
-// A fragment's colour (linear, from the shade stage's fragment maths) and
-// alpha (alpha_fragment.h) at sample s of pixel (X, Y).
+// The fragment shading of the BLEND passes, chosen once per frame on the host
+// (withFragPath) and compiled into each pass's functor:
+//   kFragLit:     Lambert or Blinn-Phong with a nearest or bilinear filter
+//                 (Shade::litFragment; kFeat: vertex colours, 0 or 1);
+//   kFragPbr:     the glTF shading (Shade::shadePbr<kFeat>, kFeat the scene's
+//                 PbrFeature set, as the shade stage's own kernel takes it);
+//   kFragGeneral: every other mode (depth, the diagnostic views, trilinear
+//                 filtering), the shade stage's general fragment maths.
+// The specialised paths evaluate the general one's expressions in its order
+// (the same bits: tests/pipeline/test_transparency.cpp compares them through
+// TestHooks::generalShade), from the sample's edge values computed once for
+// the alpha and the colour, with no code for what the frame does not use and
+// nothing whose address is taken (a GPU keeps it all in registers).
+enum FragFamily : int { kFragGeneral, kFragLit, kFragPbr };
+
+// A pass's per-triangle lookups for the glTF shading (none for the others).
+struct NoPbrTri {};
+template <int kFam>
+using FragPbrTri = std::conditional_t<kFam == kFragPbr, shading::PbrTri, NoPbrTri>;
+
+// A fragment's colour (linear) and alpha (alpha_fragment.h) at sample s of
+// pixel (X, Y).
 struct FragShade {
   AlphaScene sc;
   Shade sh;
   SamplePattern sp;
-  KOKKOS_INLINE_FUNCTION float4 at(uint32_t index, int32_t X, int32_t Y, int s, AlphaTri& a, TriFrag& tf) const {
+  template <int kFam = kFragGeneral, int kFeat = 0>
+  RAST_GPU_INLINE float4 at(uint32_t index, int32_t X, int32_t Y, int s, AlphaTri& a, TriFrag& tf,
+                            FragPbrTri<kFam>& pt) const {
     if (a.index != index) sc.prepare(index, a);
-    sh.use(index, tf);
-    const RasterTri& t = sc.tris(index);
-    const Edges& e = tf.e;  // Edges(t), set up once per triangle by use()
-    const int64_t s0 = e.atSample(0, e.eval(0, X, Y), sp.ox[s], sp.oy[s]);
-    const int64_t s1 = e.atSample(1, e.eval(1, X, Y), sp.ox[s], sp.oy[s]);
-    const int64_t s2 = e.atSample(2, e.eval(2, X, Y), sp.ox[s], sp.oy[s]);
-    const float alpha = sc.alphaAt(a, s0, s1, s2);
-    float3 n;
-    const float4 c = sh.shadeFragment(tf, X, Y, sp.ox[s], sp.oy[s], DepthTerms(t).at(s0, s2), &n);
+    if constexpr (kFam == kFragGeneral) {
+      sh.use(index, tf);
+      const RasterTri& t = sc.tris(index);
+      const Edges& e = tf.e;  // Edges(t), set up once per triangle by use()
+      const int64_t s0 = e.atSample(0, e.eval(0, X, Y), sp.ox[s], sp.oy[s]);
+      const int64_t s1 = e.atSample(1, e.eval(1, X, Y), sp.ox[s], sp.oy[s]);
+      const int64_t s2 = e.atSample(2, e.eval(2, X, Y), sp.ox[s], sp.oy[s]);
+      const float alpha = sc.alphaAt(a, s0, s1, s2);
+      float3 n;
+      const float4 c = sh.shadeFragment(tf, X, Y, sp.ox[s], sp.oy[s], DepthTerms(t).at(s0, s2), &n);
+      return float4{c.x, c.y, c.z, alpha};
+    } else {
+      use<kFam>(index, tf, pt);
+      const Edges& e = tf.e;
+      const int32_t ox = sp.ox[s], oy = sp.oy[s];
+      return shadeAt<kFam, kFeat>(X, Y, s, e.atSample(0, e.eval(0, X, Y), ox, oy), e.atSample(1, e.eval(1, X, Y), ox, oy),
+                                  e.atSample(2, e.eval(2, X, Y), ox, oy), a, tf, pt);
+    }
+  }
+  // The specialised paths' shading lookups of triangle `index` (its AlphaTri
+  // apart); whether they were prepared now.
+  template <int kFam>
+  RAST_GPU_INLINE bool use(uint32_t index, TriFrag& tf, FragPbrTri<kFam>& pt) const {
+    if (tf.index == index) return false;
+    sh.prepare(index, tf);
+    if constexpr (kFam == kFragPbr) pt = sh.pbrTri(tf);
+    return true;
+  }
+  // A specialised path's fragment at sample s of pixel (X, Y), whose exact
+  // edge values are E0, E1, E2 (the barycentrics, alpha and colour from them).
+  template <int kFam, int kFeat>
+  RAST_GPU_INLINE float4 shadeAt(int32_t X, int32_t Y, int s, int64_t E0, int64_t E1, int64_t E2, const AlphaTri& a,
+                                 const TriFrag& tf, const FragPbrTri<kFam>& pt) const {
+    float b0, b1, b2;
+    sh.baryFrom(tf, E0, E1, E2, b0, b1, b2);
+    const float alpha = sc.alphaFrom(a, b0, b1, b2);
+    if (!(alpha > 0.0f)) return float4{0.0f, 0.0f, 0.0f, 0.0f};  // no fragment: its colour is not read
+    float4 c;
+    if constexpr (kFam == kFragLit) {
+      c = sh.template litFragment<kFeat>(tf, b0, b1, b2);
+    } else {
+      static_assert(kFam == kFragPbr, "a fragment family without its shading");
+      const float3 N = normalize(tf.n[0] * b0 + tf.n[1] * b1 + tf.n[2] * b2);
+      const float3 P = tf.pos[0] * b0 + tf.pos[1] * b1 + tf.pos[2] * b2;
+      c = sh.template shadePbr<kFeat>(tf, pt, X, Y, sp.ox[s], sp.oy[s], b0, b1, b2, N, P);
+    }
     return float4{c.x, c.y, c.z, alpha};
   }
   // Weighted blended OIT's weight (McGuire and Bavoil 2013, eq. 7) at window depth d.
-  KOKKOS_INLINE_FUNCTION float weight(float d) const {
+  RAST_GPU_INLINE float weight(float d) const {
     const float n = sh.p.frame(0).camera.znear, f = sh.p.frame(0).camera.zfar;
     const float z = 2.0f * n * f / ((f + n) - (2.0f * d - 1.0f) * (f - n));
     const float a = z / 5.0f, b = z / 200.0f, b2 = b * b;
@@ -52,7 +114,7 @@ struct FragShade {
   }
   // sorted: the draw's bounding box centre, its depth in view space, nearest
   // first; within a draw, later triangles first (drawn last, they lie on top).
-  KOKKOS_INLINE_FUNCTION uint64_t sortedKey(uint32_t draw, uint32_t i) const {
+  RAST_GPU_INLINE uint64_t sortedKey(uint32_t draw, uint32_t i) const {
     const float* m = sh.draws(draw).modelF.m;
     const float3 c = sc.alphaDraws(draw).centre;
     const float wx = m[0] * c.x + m[4] * c.y + m[8] * c.z + m[12];
@@ -70,7 +132,7 @@ KOKKOS_INLINE_FUNCTION uint32_t keyIndex(uint64_t key, bool sorted) {
 }
 
 // Front to back, premultiplied, in linear light.
-KOKKOS_INLINE_FUNCTION void over(float3& acc, float& T, const float4 c) {
+RAST_GPU_INLINE void over(float3& acc, float& T, const float4 c) {
   acc = acc + float3{c.x, c.y, c.z} * (T * c.w);
   T = T * (1.0f - c.w);
 }
@@ -81,14 +143,16 @@ KOKKOS_INLINE_FUNCTION float4 overOpaque(const float3 acc, float T, const float4
   return float4{acc.x + T * opq.x, acc.y + T * opq.y, acc.z + T * opq.z, 1.0f - T * (1.0f - opq.w)};
 }
 
-// The resolves' per-thread lookups (AlphaTri, TriFrag) of the last N
-// triangles shaded: the layers over neighbouring pixels are mostly the same
-// few triangles, and one entry re-prepared for each fragment of a pixel of 8
-// layers cost more than the shading. A GPU keeps one entry (registers).
-template <int N>
+// The resolves' per-thread lookups (AlphaTri, TriFrag, and PbrTri for the
+// glTF shading) of the last N triangles shaded: the layers over neighbouring
+// pixels are mostly the same few triangles, and one entry re-prepared for each
+// fragment of a pixel of 8 layers cost more than the shading. A GPU keeps one
+// entry (registers).
+template <int N, int kFam = kFragGeneral>
 struct FragCacheOf {
   AlphaTri a[N];
   TriFrag tf[N];
+  FragPbrTri<kFam> pt[N];
   int next = 0, hint = 0;
   // The entry of `index`, else the oldest. Pixels side by side composite
   // the same triangles in the same order: the entry after the last one used
@@ -106,13 +170,66 @@ struct FragCacheOf {
     hint = k + 1 == N ? 0 : k + 1;
     return k;
   }
-  KOKKOS_INLINE_FUNCTION float4 at(const FragShade& fs, uint32_t index, int32_t X, int32_t Y, int s) {
-    const int e = slot(index);
-    return fs.at(index, X, Y, s, a[e], tf[e]);
+  // A CPU entry's edge values at its last fragment (row evY, sample evS,
+  // pixel evX): the next pixel along the row steps them by A (exact
+  // integers, the values eval gives) instead of evaluating the edges again.
+  int64_t ev[N][3];
+  int32_t evX[N], evY[N], evS[N];
+  template <int kFeat = 0>
+  RAST_GPU_INLINE float4 at(const FragShade& fs, uint32_t index, int32_t X, int32_t Y, int s) {
+    if constexpr (N == 1 || kFam == kFragGeneral) {
+      const int e = N == 1 ? 0 : slot(index);
+      return fs.template at<kFam, kFeat>(index, X, Y, s, a[e], tf[e], pt[e]);
+    } else {
+      const int e = slot(index);
+      if (a[e].index != index) fs.sc.prepare(index, a[e]);
+      const bool fresh = fs.template use<kFam>(index, tf[e], pt[e]);
+      const Edges& E = tf[e].e;
+      int64_t(&v)[3] = ev[e];
+      if (fresh || evY[e] != Y || evS[e] != s || evX[e] >= X) {
+        const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+        for (int i = 0; i < 3; ++i) v[i] = E.atSample(i, E.eval(i, X, Y), ox, oy);
+      } else {
+        for (int i = 0; i < 3; ++i) v[i] += E.A[i] * int64_t(X - evX[e]);
+      }
+      evX[e] = X;
+      evY[e] = Y;
+      evS[e] = s;
+      return fs.template shadeAt<kFam, kFeat>(X, Y, s, v[0], v[1], v[2], a[e], tf[e], pt[e]);
+    }
   }
 };
 constexpr int kResolveCache = kOnDevice ? 1 : 8;
-using FragCache = FragCacheOf<kResolveCache>;
+template <int kFam = kFragGeneral>
+using FragCache = FragCacheOf<kResolveCache, kFam>;
+
+// The frame's fragment family and features (above): go.template run<kFam,
+// kFeat>() with them. A family or PbrFeature added without its case here
+// does not compile (the switch over FragFamily has no default; -Wswitch).
+FragFamily fragFamily(const FragShade& fs);
+template <class Go>
+void withFragPath(const FragShade& fs, Go&& go) {
+  using shading::kPbrEnv;
+  using shading::kPbrPunctual;
+  using shading::kPbrTextured;
+  static_assert((kPbrTextured | kPbrEnv | kPbrPunctual) == 7, "withFragPath takes three glTF shading features");
+  const Shade& k = fs.sh;
+  switch (fragFamily(fs)) {
+    case kFragGeneral: return go.template run<kFragGeneral, 0>();
+    case kFragLit: return k.hasColor ? go.template run<kFragLit, 1>() : go.template run<kFragLit, 0>();
+    case kFragPbr:
+      switch ((k.hasUV ? kPbrTextured : 0) | (k.p.useEnv ? kPbrEnv : 0) | (k.numPunctual > 0 ? kPbrPunctual : 0)) {
+        case 0: return go.template run<kFragPbr, 0>();
+        case 1: return go.template run<kFragPbr, 1>();
+        case 2: return go.template run<kFragPbr, 2>();
+        case 3: return go.template run<kFragPbr, 3>();
+        case 4: return go.template run<kFragPbr, 4>();
+        case 5: return go.template run<kFragPbr, 5>();
+        case 6: return go.template run<kFragPbr, 6>();
+        default: return go.template run<kFragPbr, 7>();
+      }
+  }
+}
 
 FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
 

@@ -283,7 +283,29 @@ struct Shade {
       return float4{l, 0.0f, 0.0f, 1.0f};
     }
     if (kColor < 0 ? hasColor != 0 : kColor == 1) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
+    return litLight(f, base4, N, P);
+  }
 
+  // The lit shading (Lambert or Blinn-Phong, nearest or bilinear texturing:
+  // what litOnly() admits) of a fragment at barycentrics b0, b1, b2: the
+  // same expressions as shadeFragment<true, kColor>, for callers that have
+  // the barycentrics at a sample (the BLEND resolve, pipeline/blend/frag_shade.h).
+  template <int kColor>
+  RAST_GPU_INLINE float4 litFragment(const TriFrag& f, float b0, float b1, float b2) const {
+    const float3 N = normalize(f.n[0] * b0 + f.n[1] * b1 + f.n[2] * b2);
+    const float3 P = f.pos[0] * b0 + f.pos[1] * b1 + f.pos[2] * b2;
+    float4 base4 = f.baseColor;
+    if (f.textured) {
+      const float2 uv = uvAt(f, b0, b1, b2);
+      base4 = base4 * (p.filter == TexFilter::Nearest ? sampleNearest(f.tex, texels, lut, uv.x, uv.y)
+                                                      : sampleBilinear(f.tex, texels, lut, uv.x, uv.y));
+    }
+    if (kColor == 1) base4 = base4 * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
+    return litLight(f, base4, N, P);
+  }
+
+  // The lit shading's light on a fragment of colour base4, normal N, at P.
+  RAST_GPU_INLINE float4 litLight(const TriFrag& f, const float4& base4, const float3& N, const float3& P) const {
     const float3 V = normalize(f.eye - P);
     float diffuse = p.ambient, spec = 0.0f;
     // The headlight (the default lighting) on a path of its own: the same

@@ -2,7 +2,8 @@
 // lose the depth test in every raster method; BLEND layers composite in
 // linear light, exactly for `exact`, with each approximate method's failure
 // pinned to its bound; more layers than a resolve pass keeps are peeled bit
-// for bit; an opaque scene allocates nothing for them; tile lists over the
+// for bit; the passes' specialised fragment shading gives the general one's
+// bits; an opaque scene allocates nothing for them; tile lists over the
 // memory budget fall back to kbuffer and say so.
 #include <catch2/catch.hpp>
 
@@ -226,6 +227,40 @@ TEST_CASE("BLEND exact: more layers than the keys a pass keeps are peeled, bit f
     k.transparency = Transparency::KBuffer;
     k.blendK = 64;
     CHECK(sameBits(exact, film(s, k)));
+  }
+}
+
+TEST_CASE("BLEND: the specialised fragment shading gives the general fragment maths' bits", "[transparency][blend]") {
+  // Each pass shades its fragments with code compiled for the frame's
+  // shading (lit, glTF; frag_shade.h); TestHooks::generalShade makes them
+  // take the shade stage's general fragment maths instead. Lit and glTF
+  // layers (lit, not unlit), intersecting; COLOR_0 with an alpha ramp
+  // (the cut-out quad drawn BLEND); one and four samples; the methods whose
+  // films do not depend on the thread schedule (kbuffer with room for every
+  // layer merges nothing).
+  struct General {
+    General() { testHooks().generalShade = true; }
+    ~General() { testHooks().generalShade = false; }
+  };
+  for (const char* name : {"builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:cutout?blend=1"}) {
+    const Scene s = builtinScene(name);
+    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr})
+      for (int msaa : {1, 4})
+        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::KBuffer}) {
+          INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
+          RenderSettings rs = small();
+          rs.shading = mode;
+          rs.msaa = msaa;
+          rs.transparency = t;
+          rs.blendK = 16;
+          const std::vector<rast::float4> special = film(s, rs);
+          std::vector<rast::float4> general;
+          {
+            General g;
+            general = film(s, rs);
+          }
+          CHECK(sameBits(special, general));
+        }
   }
 }
 

@@ -31,7 +31,8 @@ LAYERS = {
     "pipeline/rules": 5,
     "pipeline/geometry": 6, "pipeline/raster": 6,
     "pipeline/shade": 7, "pipeline/post": 7,
-    "pipeline/cpu": 8, "pipeline/blend": 8,  # blend: MASK and BLEND passes (docs/transparency.md)
+    "pipeline/cpu": 8,
+    "pipeline/blend": 8.5,  # MASK and BLEND passes (docs/transparency.md); the resolve lights runs with the CPU's span maths
     "pipeline/frame": 9,
     "pipeline/distributed": 9.5,  # sort-last compositing: hooks into the renderer (docs/distributed.md)
     "api": 10,  # the library behind include/rast/rast.h
