@@ -66,6 +66,22 @@ using PinnedSpace = Kokkos::SharedHostPinnedSpace;
 using PinnedSpace = Kokkos::HostSpace;
 #endif
 
+// One pixel's (u, v, z/w, id + 1), stored whole.
+struct alignas(16) Pixel4 {
+  float x, y, z, w;
+};
+KOKKOS_INLINE_FUNCTION void putPixel(const View<float** [4]>& out, Pixel4* wide, int64_t p, int64_t y, int64_t x,
+                                     const Pixel4& v) {
+  if (wide) {
+    wide[p] = v;
+  } else {
+    out(y, x, 0) = v.x;
+    out(y, x, 1) = v.y;
+    out(y, x, 2) = v.z;
+    out(y, x, 3) = v.w;
+  }
+}
+
 }  // namespace
 
 // The renderer of a context is made for a vertex count, a triangle count and
@@ -175,6 +191,12 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
   for (int attempt = 1;; ++attempt) {
     r.enqueue(cam, rs);
     const FrameKeys keys = r.takeKeys();
+    // A pixel's four outputs in one 16-byte store where the view allows it
+    // (contiguous rows, aligned: the module's own outputs always are), which
+    // a GPU issues as one wide store instead of four strided ones.
+    Pixel4* const wide = out.span_is_contiguous() && reinterpret_cast<uintptr_t>(out.data()) % alignof(Pixel4) == 0
+                             ? reinterpret_cast<Pixel4*>(out.data())
+                             : nullptr;
     Kokkos::parallel_for(
         "rast::api::barycentrics", Kokkos::RangePolicy<ExecutionSpace>(ExecutionSpace(), 0, int64_t(height) * width),
         KOKKOS_LAMBDA(const int64_t p) {
@@ -182,7 +204,7 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
           const int64_t y = p / width, x = p - y * width;
           const int64_t drawn = keys.take(p, int32_t(x), int32_t(y));  // the input triangle, not a clipped piece
           if (drawn < 0) {
-            for (int k = 0; k < 4; ++k) out(y, x, k) = 0.0f;
+            putPixel(out, wide, p, y, x, Pixel4{0.0f, 0.0f, 0.0f, 0.0f});
             ids(y, x) = -1;
             return;
           }
@@ -196,10 +218,9 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
             zw[k] = double(pos(v, 2)) * iw[k];
           }
           const PixelBarycentrics w = pixelBarycentrics(x, y, width, height, px, py, iw);
-          out(y, x, 0) = float(w.p[0]);
-          out(y, x, 1) = float(w.p[1]);
-          out(y, x, 2) = float(w.b[0] * zw[0] + w.b[1] * zw[1] + w.b[2] * zw[2]);
-          out(y, x, 3) = float(t + 1u);
+          putPixel(out, wide, p, y, x,
+                   Pixel4{float(w.p[0]), float(w.p[1]), float(w.b[0] * zw[0] + w.b[1] * zw[1] + w.b[2] * zw[2]),
+                          float(t + 1u)});
           ids(y, x) = int32_t(t);
         });
     if (r.lastFrameFit()) break;
