@@ -414,7 +414,11 @@ struct PeelLaunch {
     if constexpr (kFam == kFragGeneral)
       Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)), peel, result);
     else
-      Kokkos::parallel_reduce("rast::blend::resolve", lightweight(Range(0, items)), peel, result);
+      Kokkos::parallel_reduce(
+          "rast::blend::resolve",
+          lightweight(Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kBlendResolveLaunchBounds[0],
+                                                                     kBlendResolveLaunchBounds[1]>>(0, items)),
+          peel, result);
   }
 };
 
