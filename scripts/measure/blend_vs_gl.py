@@ -23,7 +23,6 @@ import json
 import math
 import os
 import re
-import struct
 import subprocess
 import sys
 import tempfile
@@ -32,6 +31,8 @@ here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
 import blend_scenes  # noqa: E402
 from csv_rows import write_rows  # noqa: E402
+sys.path.insert(0, os.path.join(here, "..", "..", "tests", "support"))
+import rastimg  # noqa: E402
 
 # (label, file, transparent layers, camera flags or None: glblend's --auto-camera, given to rast too)
 SCENES = [
@@ -45,13 +46,9 @@ SCENES = [
 
 
 def read_pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        ch = 3 if kind == b"PF" else 1
-        data = f.read()
-    return w, h, struct.unpack(("<" if scale < 0 else ">") + f"{w * h * ch}f", data)
+    """(width, height, floats) of a PFM film (tests/support/rastimg.py reads it)."""
+    w, h, _, data = rastimg.read_pfm(path)
+    return w, h, data
 
 
 def errors(a, b):
