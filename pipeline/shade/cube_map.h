@@ -51,7 +51,9 @@ struct CubeCoord {
   float s, t;
 };
 KOKKOS_INLINE_FUNCTION CubeCoord cubeCoord(float3 d) {
-  const float ax = d.x < 0.0f ? -d.x : d.x, ay = d.y < 0.0f ? -d.y : d.y, az = d.z < 0.0f ? -d.z : d.z;
+  // fabsf: one instruction; its +0 for -0 and sign-cleared NaN compare as
+  // the negation's did, and a zero or NaN ma returns below either way.
+  const float ax = ::fabsf(d.x), ay = ::fabsf(d.y), az = ::fabsf(d.z);
   int32_t face;
   float sc, tc, ma;
   if (ax >= ay && ax >= az) {
@@ -85,7 +87,7 @@ KOKKOS_INLINE_FUNCTION float4 cubeBilinear(const Texels& tex, uint32_t levelOffs
   float fx = c.s * fs - 0.5f, fy = c.t * fs - 0.5f;
   fx = fx >= -1.0f ? (fx <= fs ? fx : fs) : -1.0f;  // also NaN to -1
   fy = fy >= -1.0f ? (fy <= fs ? fy : fs) : -1.0f;
-  int32_t x0 = int32_t(floorTexel(fx)), y0 = int32_t(floorTexel(fy));
+  int32_t x0 = floorIndex(fx), y0 = floorIndex(fy);  // in [-1, size]
   x0 = x0 < size ? x0 : size - 1;
   y0 = y0 < size ? y0 : size - 1;
   const float a = fx - float(x0), b = fy - float(y0);
@@ -104,7 +106,7 @@ KOKKOS_INLINE_FUNCTION float4 cubeTrilinear(const Texels& tex, const uint32_t* o
   const CubeCoord c = cubeCoord(dir);
   const float maxLod = float(levels - 1);
   lod = lod > 0.0f ? (lod < maxLod ? lod : maxLod) : 0.0f;  // also NaN to 0
-  const int32_t l0 = int32_t(floorTexel(lod));
+  const int32_t l0 = floorIndex(lod);
   const float f = lod - float(l0);
   const float4 a = cubeBilinear(tex, offsets[l0], size >> l0, c);
   if (!(f > 0.0f) || l0 + 1 >= levels) return a;

@@ -44,10 +44,10 @@ KOKKOS_INLINE_FUNCTION float2 iblBrdf(const EnvironmentGPU& e, float NdotV, floa
   const int32_t n = e.lutSize;
   const float fn = float(n);
   const float u = clamp01(NdotV) * fn - 0.5f, w = clamp01(roughness) * fn - 0.5f;
-  const float fu = floorTexel(u), fw = floorTexel(w);
-  const float a = u - fu, b = w - fw;
-  const int32_t x0 = imax(int32_t(fu), 0), y0 = imax(int32_t(fw), 0);
-  const int32_t x1 = imin(int32_t(fu) + 1, n - 1), y1 = imin(int32_t(fw) + 1, n - 1);
+  const int32_t iu = floorIndex(u), iw = floorIndex(w);  // in [-1, n - 1]
+  const float a = u - float(iu), b = w - float(iw);
+  const int32_t x0 = imax(iu, 0), y0 = imax(iw, 0);
+  const int32_t x1 = imin(iu + 1, n - 1), y1 = imin(iw + 1, n - 1);
   const float2 t00 = e.lut(uint32_t(y0) * n + x0), t10 = e.lut(uint32_t(y0) * n + x1);
   const float2 t01 = e.lut(uint32_t(y1) * n + x0), t11 = e.lut(uint32_t(y1) * n + x1);
   const float sx = (t00.x * (1.0f - a) + t10.x * a) * (1.0f - b) + (t01.x * (1.0f - a) + t11.x * a) * b;

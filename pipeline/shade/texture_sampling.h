@@ -62,8 +62,8 @@ template <class Texels, class Lut>
 KOKKOS_INLINE_FUNCTION float4 sampleNearestAt(const TextureGPU& t, const Texels& texels, const Lut& lut, float ru,
                                               float rv) {
   const float fu = ru * float(t.width), fv = rv * float(t.height);
-  const int32_t x = wrapIndex(int32_t(floorTexel(fu)), t.width, t.wrapS);
-  const int32_t y = wrapIndex(int32_t(floorTexel(fv)), t.height, t.wrapT);
+  const int32_t x = wrapIndex(floorIndex(fu), t.width, t.wrapS);
+  const int32_t y = wrapIndex(floorIndex(fv), t.height, t.wrapT);
   return fetchTexel(t, texels, lut, x, y);
 }
 
@@ -78,9 +78,8 @@ KOKKOS_INLINE_FUNCTION float4 sampleBilinearAt(const TextureGPU& t, const Texels
                                                float rv) {
   const float fu = ru * float(t.width) - 0.5f;
   const float fv = rv * float(t.height) - 0.5f;
-  const float flu = floorTexel(fu), flv = floorTexel(fv);
-  const float a = fu - flu, b = fv - flv;
-  const int32_t x0 = int32_t(flu), y0 = int32_t(flv);
+  const int32_t x0 = floorIndex(fu), y0 = floorIndex(fv);  // |fu|, |fv| <= 2 side - 0.5
+  const float a = fu - float(x0), b = fv - float(y0);
   const int32_t xa = wrapIndex(x0, t.width, t.wrapS), xb = wrapIndex(x0 + 1, t.width, t.wrapS);
   const int32_t ya = wrapIndex(y0, t.height, t.wrapT), yb = wrapIndex(y0 + 1, t.height, t.wrapT);
   const float4 c00 = fetchTexel(t, texels, lut, xa, ya), c10 = fetchTexel(t, texels, lut, xb, ya);
