@@ -4,6 +4,7 @@
 #pragma once
 
 #include "backends/fast_floor.h"
+#include "backends/flatten.h"
 #include "base/color.h"
 #include "pipeline/data/gpu_types.h"
 #include "host/scene/scene.h"
@@ -74,7 +75,7 @@ KOKKOS_INLINE_FUNCTION float4 sampleNearest(const TextureGPU& t, const Texels& t
 }
 
 template <class Texels, class Lut>
-KOKKOS_INLINE_FUNCTION float4 sampleBilinearAt(const TextureGPU& t, const Texels& texels, const Lut& lut, float ru,
+RAST_HOST_FORCEINLINE float4 sampleBilinearAt(const TextureGPU& t, const Texels& texels, const Lut& lut, float ru,
                                                float rv) {
   const float fu = ru * float(t.width) - 0.5f;
   const float fv = rv * float(t.height) - 0.5f;
