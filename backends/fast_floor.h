@@ -26,4 +26,19 @@ KOKKOS_INLINE_FUNCTION float floorTexel(float x) {
 #endif
 }
 
+// floor as a texel index, for arguments the callers have already bounded
+// (|x| < 2^31, not NaN: reduced texture coordinates times the side, clamped
+// cube map coordinates, the split-sum table's): on the host a truncation and
+// one correction, without floorTexel's range test; the same value as
+// int32_t(floorTexel(x)) there, and float() of it is floorTexel(x) (exact,
+// the index being an integer that a float holds). On the device int32_t(floorf(x)).
+KOKKOS_INLINE_FUNCTION int32_t floorIndex(float x) {
+#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
+  return int32_t(::floorf(x));
+#else
+  const int32_t i = int32_t(x);  // towards zero
+  return float(i) > x ? i - 1 : i;
+#endif
+}
+
 }  // namespace rast

@@ -35,3 +35,14 @@
 #else
 #define RAST_GPU_INLINE KOKKOS_INLINE_FUNCTION
 #endif
+
+// RAST_HOST_FORCEINLINE: inlined wherever it is called on GCC host builds,
+// a plain inline function elsewhere (GPU compilers keep their own choice).
+// For the bilinear texture filter, which GCC left out of line in the glTF
+// shading's kernel despite `flatten` (a call and its register saves twice a
+// fragment, and the alpha channel computed where the material ignores it).
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__CUDACC__) && !defined(__HIPCC__)
+#define RAST_HOST_FORCEINLINE __attribute__((always_inline)) inline
+#else
+#define RAST_HOST_FORCEINLINE KOKKOS_INLINE_FUNCTION
+#endif

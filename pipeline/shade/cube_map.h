@@ -51,7 +51,9 @@ struct CubeCoord {
   float s, t;
 };
 KOKKOS_INLINE_FUNCTION CubeCoord cubeCoord(float3 d) {
-  const float ax = d.x < 0.0f ? -d.x : d.x, ay = d.y < 0.0f ? -d.y : d.y, az = d.z < 0.0f ? -d.z : d.z;
+  // fabsf: one instruction; its +0 for -0 and sign-cleared NaN compare as
+  // the negation's did, and a zero or NaN ma returns below either way.
+  const float ax = ::fabsf(d.x), ay = ::fabsf(d.y), az = ::fabsf(d.z);
   int32_t face;
   float sc, tc, ma;
   if (ax >= ay && ax >= az) {
@@ -85,7 +87,7 @@ KOKKOS_INLINE_FUNCTION float4 cubeBilinear(const Texels& tex, uint32_t levelOffs
   float fx = c.s * fs - 0.5f, fy = c.t * fs - 0.5f;
   fx = fx >= -1.0f ? (fx <= fs ? fx : fs) : -1.0f;  // also NaN to -1
   fy = fy >= -1.0f ? (fy <= fs ? fy : fs) : -1.0f;
-  int32_t x0 = int32_t(floorTexel(fx)), y0 = int32_t(floorTexel(fy));
+  int32_t x0 = floorIndex(fx), y0 = floorIndex(fy);  // in [-1, size]
   x0 = x0 < size ? x0 : size - 1;
   y0 = y0 < size ? y0 : size - 1;
   const float a = fx - float(x0), b = fy - float(y0);
@@ -98,17 +100,42 @@ KOKKOS_INLINE_FUNCTION float4 cubeBilinear(const Texels& tex, uint32_t levelOffs
 // Trilinear sample of a chain of bordered levels (level l has side
 // size >> l, starts at offsets[l]) at level of detail `lod`, clamped to the
 // chain as textureLod clamps it.
+// The two levels a trilinear sample at `lod` reads and its blend weight:
+// what depends on the level of detail alone, so that a caller whose lod is
+// the same for many samples (a triangle's roughness) finds it once.
+struct CubeLod {
+  uint32_t offset0 = 0, offset1 = 0;
+  int32_t size0 = 0, size1 = 0;
+  float f = 0.0f;
+  int32_t two = 0;  // the second level is read (f > 0 and it exists)
+};
+KOKKOS_INLINE_FUNCTION CubeLod cubeLod(const uint32_t* offsets, int32_t size, int32_t levels, float lod) {
+  const float maxLod = float(levels - 1);
+  lod = lod > 0.0f ? (lod < maxLod ? lod : maxLod) : 0.0f;  // also NaN to 0
+  const int32_t l0 = floorIndex(lod);
+  CubeLod r;
+  r.f = lod - float(l0);
+  r.offset0 = offsets[l0];
+  r.size0 = size >> l0;
+  r.two = (r.f > 0.0f) && l0 + 1 < levels;
+  if (r.two) {
+    r.offset1 = offsets[l0 + 1];
+    r.size1 = size >> (l0 + 1);
+  }
+  return r;
+}
+
+template <class Texels>
+KOKKOS_INLINE_FUNCTION float4 cubeTrilinearAt(const Texels& tex, const CubeLod& l, CubeCoord c) {
+  const float4 a = cubeBilinear(tex, l.offset0, l.size0, c);
+  if (!l.two) return a;
+  return lerp4(a, cubeBilinear(tex, l.offset1, l.size1, c), l.f);
+}
+
 template <class Texels>
 KOKKOS_INLINE_FUNCTION float4 cubeTrilinear(const Texels& tex, const uint32_t* offsets, int32_t size, int32_t levels,
                                             float3 dir, float lod) {
-  const CubeCoord c = cubeCoord(dir);
-  const float maxLod = float(levels - 1);
-  lod = lod > 0.0f ? (lod < maxLod ? lod : maxLod) : 0.0f;  // also NaN to 0
-  const int32_t l0 = int32_t(floorTexel(lod));
-  const float f = lod - float(l0);
-  const float4 a = cubeBilinear(tex, offsets[l0], size >> l0, c);
-  if (!(f > 0.0f) || l0 + 1 >= levels) return a;
-  return lerp4(a, cubeBilinear(tex, offsets[l0 + 1], size >> (l0 + 1), c), f);
+  return cubeTrilinearAt(tex, cubeLod(offsets, size, levels, lod), cubeCoord(dir));
 }
 
 // atan(x) without the maths library (Cephes' atanf: range reduction at

@@ -26,10 +26,36 @@ KOKKOS_INLINE_FUNCTION float3 iblDiffuse(const EnvironmentGPU& e, float3 n) {
   return rgb3(cubeBilinear(e.diffuse, 0u, e.diffuseSize, c)) * e.intensity;
 }
 
+// What the image-based light of a fragment needs of its perceptual
+// roughness alone: the specular levels at lod = roughness * (mipCount - 1),
+// and the split-sum table's rows (their first texels' indices) and weight.
+// Found once per triangle where the roughness is the material's
+// (PbrTri::ibl), else per fragment.
+struct IblRough {
+  float roughness = 1.0f;
+  CubeLod lod;
+  uint32_t row0 = 0, row1 = 0;
+  float b = 0.0f;
+};
+KOKKOS_INLINE_FUNCTION IblRough iblRough(const EnvironmentGPU& e, float roughness) {
+  IblRough r;
+  r.roughness = roughness;
+  r.lod = cubeLod(e.levelOffset, e.faceSize, e.mipCount, roughness * float(e.mipCount - 1));
+  const int32_t n = e.lutSize;
+  const float w = clamp01(roughness) * float(n) - 0.5f;
+  const int32_t iw = floorIndex(w);  // in [-1, n - 1]
+  r.b = w - float(iw);
+  r.row0 = uint32_t(imax(iw, 0)) * n;
+  r.row1 = uint32_t(imin(iw + 1, n - 1)) * n;
+  return r;
+}
+
 // Prefiltered radiance along direction r at perceptual roughness (getSpecularSample).
+KOKKOS_INLINE_FUNCTION float3 iblRadiance(const EnvironmentGPU& e, float3 r, const IblRough& rough) {
+  return rgb3(cubeTrilinearAt(e.specular, rough.lod, cubeCoord(envRotate(e, r)))) * e.intensity;
+}
 KOKKOS_INLINE_FUNCTION float3 iblRadiance(const EnvironmentGPU& e, float3 r, float roughness) {
-  const float lod = roughness * float(e.mipCount - 1);
-  return rgb3(cubeTrilinear(e.specular, e.levelOffset, e.faceSize, e.mipCount, envRotate(e, r), lod)) * e.intensity;
+  return iblRadiance(e, r, iblRough(e, roughness));
 }
 
 // Prefiltered radiance along reflect(-v, n) (getIBLRadianceGGX); n, v unit.
@@ -40,19 +66,20 @@ KOKKOS_INLINE_FUNCTION float3 iblSpecular(const EnvironmentGPU& e, float3 n, flo
 
 // The split-sum table at (NdotV, roughness), both clamped to [0, 1],
 // bilinear with clamped edges as the reference's texture() reads it.
-KOKKOS_INLINE_FUNCTION float2 iblBrdf(const EnvironmentGPU& e, float NdotV, float roughness) {
+KOKKOS_INLINE_FUNCTION float2 iblBrdf(const EnvironmentGPU& e, float NdotV, const IblRough& r) {
   const int32_t n = e.lutSize;
-  const float fn = float(n);
-  const float u = clamp01(NdotV) * fn - 0.5f, w = clamp01(roughness) * fn - 0.5f;
-  const float fu = floorTexel(u), fw = floorTexel(w);
-  const float a = u - fu, b = w - fw;
-  const int32_t x0 = imax(int32_t(fu), 0), y0 = imax(int32_t(fw), 0);
-  const int32_t x1 = imin(int32_t(fu) + 1, n - 1), y1 = imin(int32_t(fw) + 1, n - 1);
-  const float2 t00 = e.lut(uint32_t(y0) * n + x0), t10 = e.lut(uint32_t(y0) * n + x1);
-  const float2 t01 = e.lut(uint32_t(y1) * n + x0), t11 = e.lut(uint32_t(y1) * n + x1);
+  const float u = clamp01(NdotV) * float(n) - 0.5f;
+  const int32_t iu = floorIndex(u);  // in [-1, n - 1]
+  const float a = u - float(iu), b = r.b;
+  const int32_t x0 = imax(iu, 0), x1 = imin(iu + 1, n - 1);
+  const float2 t00 = e.lut(r.row0 + x0), t10 = e.lut(r.row0 + x1);
+  const float2 t01 = e.lut(r.row1 + x0), t11 = e.lut(r.row1 + x1);
   const float sx = (t00.x * (1.0f - a) + t10.x * a) * (1.0f - b) + (t01.x * (1.0f - a) + t11.x * a) * b;
   const float sy = (t00.y * (1.0f - a) + t10.y * a) * (1.0f - b) + (t01.y * (1.0f - a) + t11.y * a) * b;
   return {sx, sy};
+}
+KOKKOS_INLINE_FUNCTION float2 iblBrdf(const EnvironmentGPU& e, float NdotV, float roughness) {
+  return iblBrdf(e, NdotV, iblRough(e, roughness));
 }
 
 // The reference's getIBLGGXFresnel with specularWeight 1: single scattering
@@ -75,11 +102,13 @@ KOKKOS_INLINE_FUNCTION float3 iblGgxFresnel(float NdotV, float roughness, float3
 // (v towards the eye), roughness perceptual (the material's, before
 // squaring), occlusion the occlusion texel's value and its strength:
 // colour * (1 + strength (occlusion - 1)), on this light only.
+// rough: iblRough(e, roughness).
 KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3 v, float3 baseColor, float metallic,
-                                       float roughness, float occlusion, float occlusionStrength = 1.0f) {
+                                       const IblRough& rough, float occlusion, float occlusionStrength = 1.0f) {
+  const float roughness = rough.roughness;
   const float ndv = clamp01(dot(n, v));
-  const float2 fab = iblBrdf(e, ndv, roughness);
-  const float3 specular = iblRadiance(e, normalize(n * (2.0f * dot(n, v)) - v), roughness);
+  const float2 fab = iblBrdf(e, ndv, rough);
+  const float3 specular = iblRadiance(e, normalize(n * (2.0f * dot(n, v)) - v), rough);
   const float3 one = make3(1.0f, 1.0f, 1.0f);
   // A lobe whose weight is 0 is left at 0: x (1 - 0) + 0 0 is x, so the
   // colour has the same bits as with both lobes evaluated, and a material
@@ -93,6 +122,10 @@ KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3
   if (metallic > 0.0f) metal = iblGgxFresnel(ndv, roughness, baseColor, fab) * specular;
   const float3 color = dielectric * (1.0f - metallic) + metal * metallic;
   return color * (1.0f + occlusionStrength * (occlusion - 1.0f));
+}
+KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3 v, float3 baseColor, float metallic,
+                                       float roughness, float occlusion, float occlusionStrength = 1.0f) {
+  return iblShade(e, n, v, baseColor, metallic, iblRough(e, roughness), occlusion, occlusionStrength);
 }
 
 // The environment seen along view direction `dir` (world space, from the

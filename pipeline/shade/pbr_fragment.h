@@ -141,6 +141,7 @@ RAST_GPU_INLINE PbrTri Shade::pbrTri(const TriFrag& f) const {
   // of its textures sample another set or transform (uv1Slots).
   t.on1 = hasUV1 ? uint32_t(m.flags) >> kMaterialUv1Shift : 0u;
   t.face = cross(f.pos[1] - f.pos[0], f.pos[2] - f.pos[0]);
+  if (!kOnDevice && p.useEnv) t.ibl = iblRough(p.env, clamp01(m.roughness));
   return t;
 }
 
@@ -239,8 +240,12 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   // Indirect light (the environment's, else an ambient term on the
   // diffuse part), darkened by the occlusion texture: only it.
   const float ao = occlusionAt(m, textured, tx[SlotOcclusion]);
-  if (useEnv)
-    color = color + iblShade(p.env, N, V, s.base, s.metallic, s.roughness, ao);
+  if (useEnv) {
+    // s.roughness is clamp01(m.roughness), what pbrTri found t.ibl for,
+    // unless the metal/rough texture scaled it.
+    const bool perTri = !kOnDevice && !(textured && m.mrTexture >= 0);
+    color = color + iblShade(p.env, N, V, s.base, s.metallic, perTri ? t.ibl : iblRough(p.env, s.roughness), ao);
+  }
   else if (!anyPunctual)
     color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
   color = color + emissionAt(m, textured, tx[SlotEmissive]);
@@ -299,12 +304,19 @@ struct ShadePbr {
     k.resetBlock(X, Y);
     k.writeIds(i, key0);
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
+    if (!idx0) {  // background: its outputs without a fragment's (viewGeometry of a zero normal is zero)
+      if (k.p.floatOut) k.hdr(i) = k.p.backgroundFilm;
+      else k.color(i) = k.p.backgroundPacked;
+      if (k.p.wantNormals) k.normalOut(i) = float3{0.0f, 0.0f, 0.0f};
+      if (k.p.wantGeom) k.writeGeometry(i, float4{0.0f, 0.0f, 0.0f, 0.0f});
+      return;
+    }
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
-    if (idx0) use(idx0 - 1, q);
+    use(idx0 - 1, q);
     if (k.p.floatOut)
-      k.hdr(i) = idx0 ? fragment(q, X, Y, n0, &p0) : k.p.backgroundFilm;
+      k.hdr(i) = fragment(q, X, Y, n0, &p0);
     else
-      k.color(i) = idx0 ? k.template display<true>(fragment(q, X, Y, n0, nullptr)) : k.p.backgroundPacked;
+      k.color(i) = k.template display<true>(fragment(q, X, Y, n0, nullptr));
     if (k.p.wantNormals) k.normalOut(i) = n0;
     if (k.p.wantGeom) k.writeGeometry(i, k.viewGeometry(n0, p0));
   }

@@ -69,6 +69,12 @@ struct PbrTri {
   int32_t textured = 0;
   uint32_t on1 = 0;
   float3 face{0.0f, 0.0f, 0.0f};
+  // On host backends, with an environment: the image-based light's part that
+  // depends on the material's roughness alone (the specular levels and the
+  // split-sum rows, ibl_shading.h), used where no texture varies it. A GPU
+  // finds it per fragment (kept out of the registers this struct holds
+  // across a thread's pixels).
+  IblRough ibl;
 };
 
 // What the glTF shading of a frame uses, fixed when its kernel is compiled

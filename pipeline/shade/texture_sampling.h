@@ -4,6 +4,7 @@
 #pragma once
 
 #include "backends/fast_floor.h"
+#include "backends/flatten.h"
 #include "base/color.h"
 #include "pipeline/data/gpu_types.h"
 #include "host/scene/scene.h"
@@ -55,23 +56,31 @@ KOKKOS_INLINE_FUNCTION float4 fetchTexel(const TextureGPU& t, const Texels& texe
 
 // uv (0,0) is the top-left corner of the image (glTF), whose first stored row is
 // the top one: row index = v * height.
+// The ...At forms take coordinates already brought into range (reduceCoord
+// with the texture's wrap modes, which every level of a chain shares), so that
+// a filter reading two levels reduces each coordinate once.
 template <class Texels, class Lut>
-KOKKOS_INLINE_FUNCTION float4 sampleNearest(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
-                                            float v) {
-  const float fu = reduceCoord(u, t.wrapS) * float(t.width), fv = reduceCoord(v, t.wrapT) * float(t.height);
-  const int32_t x = wrapIndex(int32_t(floorTexel(fu)), t.width, t.wrapS);
-  const int32_t y = wrapIndex(int32_t(floorTexel(fv)), t.height, t.wrapT);
+KOKKOS_INLINE_FUNCTION float4 sampleNearestAt(const TextureGPU& t, const Texels& texels, const Lut& lut, float ru,
+                                              float rv) {
+  const float fu = ru * float(t.width), fv = rv * float(t.height);
+  const int32_t x = wrapIndex(floorIndex(fu), t.width, t.wrapS);
+  const int32_t y = wrapIndex(floorIndex(fv), t.height, t.wrapT);
   return fetchTexel(t, texels, lut, x, y);
 }
 
 template <class Texels, class Lut>
-KOKKOS_INLINE_FUNCTION float4 sampleBilinear(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
-                                             float v) {
-  const float fu = reduceCoord(u, t.wrapS) * float(t.width) - 0.5f;
-  const float fv = reduceCoord(v, t.wrapT) * float(t.height) - 0.5f;
-  const float flu = floorTexel(fu), flv = floorTexel(fv);
-  const float a = fu - flu, b = fv - flv;
-  const int32_t x0 = int32_t(flu), y0 = int32_t(flv);
+KOKKOS_INLINE_FUNCTION float4 sampleNearest(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
+                                            float v) {
+  return sampleNearestAt(t, texels, lut, reduceCoord(u, t.wrapS), reduceCoord(v, t.wrapT));
+}
+
+template <class Texels, class Lut>
+RAST_HOST_FORCEINLINE float4 sampleBilinearAt(const TextureGPU& t, const Texels& texels, const Lut& lut, float ru,
+                                               float rv) {
+  const float fu = ru * float(t.width) - 0.5f;
+  const float fv = rv * float(t.height) - 0.5f;
+  const int32_t x0 = floorIndex(fu), y0 = floorIndex(fv);  // |fu|, |fv| <= 2 side - 0.5
+  const float a = fu - float(x0), b = fv - float(y0);
   const int32_t xa = wrapIndex(x0, t.width, t.wrapS), xb = wrapIndex(x0 + 1, t.width, t.wrapS);
   const int32_t ya = wrapIndex(y0, t.height, t.wrapT), yb = wrapIndex(y0 + 1, t.height, t.wrapT);
   const float4 c00 = fetchTexel(t, texels, lut, xa, ya), c10 = fetchTexel(t, texels, lut, xb, ya);
@@ -79,15 +88,26 @@ KOKKOS_INLINE_FUNCTION float4 sampleBilinear(const TextureGPU& t, const Texels& 
   return (c00 * ((1.0f - a) * (1.0f - b)) + c10 * (a * (1.0f - b))) + (c01 * ((1.0f - a) * b) + c11 * (a * b));
 }
 
-// Mipmap level k of a texture, as a texture of its own (levels follow each
-// other in the texel buffer, each half the size of the previous, at least 1).
+template <class Texels, class Lut>
+KOKKOS_INLINE_FUNCTION float4 sampleBilinear(const TextureGPU& t, const Texels& texels, const Lut& lut, float u,
+                                             float v) {
+  return sampleBilinearAt(t, texels, lut, reduceCoord(u, t.wrapS), reduceCoord(v, t.wrapT));
+}
+
+// The mipmap level after level l (levels follow each other in the texel
+// buffer, each half the size of the previous, at least 1). Sides are
+// positive: halved by a shift.
+KOKKOS_INLINE_FUNCTION TextureGPU nextMip(TextureGPU l) {
+  l.offset += uint32_t(l.width) * uint32_t(l.height);
+  l.width = l.width > 1 ? int32_t(uint32_t(l.width) >> 1) : 1;
+  l.height = l.height > 1 ? int32_t(uint32_t(l.height) >> 1) : 1;
+  return l;
+}
+
+// Mipmap level k of a texture, as a texture of its own.
 KOKKOS_INLINE_FUNCTION TextureGPU mipLevel(const TextureGPU& t, int k) {
   TextureGPU l = t;
-  for (int i = 0; i < k; ++i) {
-    l.offset += uint32_t(l.width) * uint32_t(l.height);
-    l.width = l.width > 1 ? l.width / 2 : 1;
-    l.height = l.height > 1 ? l.height / 2 : 1;
-  }
+  for (int i = 0; i < k; ++i) l = nextMip(l);
   return l;
 }
 
@@ -109,9 +129,11 @@ KOKKOS_INLINE_FUNCTION float4 sampleTrilinear(const TextureGPU& t, const Texels&
   lod = lod < 0.0f ? 0.0f : (lod > maxLod ? maxLod : lod);
   const int k = int(::floorf(lod));
   const float f = lod - float(k);
-  const float4 a = sampleBilinear(mipLevel(t, k), texels, lut, u, v);
+  const float ru = reduceCoord(u, t.wrapS), rv = reduceCoord(v, t.wrapT);
+  const TextureGPU lk = mipLevel(t, k);
+  const float4 a = sampleBilinearAt(lk, texels, lut, ru, rv);
   if (f <= 0.0f || k + 1 >= t.levels) return a;
-  const float4 b = sampleBilinear(mipLevel(t, k + 1), texels, lut, u, v);
+  const float4 b = sampleBilinearAt(nextMip(lk), texels, lut, ru, rv);
   return a * (1.0f - f) + b * f;
 }
 
@@ -122,19 +144,20 @@ KOKKOS_INLINE_FUNCTION float4 sampleSamplerAt(const TextureGPU& t, const Texels&
   constexpr int32_t kNearest = 9728, kNearestMipNearest = 9984, kLinearMipNearest = 9985, kNearestMipLinear = 9986;
   const int32_t m = t.minFilter;
   const bool nearestTexel = m == kNearest || m == kNearestMipNearest || m == kNearestMipLinear;
-  auto level = [&](int k) {
-    const TextureGPU l = mipLevel(t, k);
-    return nearestTexel ? sampleNearest(l, texels, lut, u, v) : sampleBilinear(l, texels, lut, u, v);
+  const float ru = reduceCoord(u, t.wrapS), rv = reduceCoord(v, t.wrapT);  // once for both levels
+  auto sample = [&](const TextureGPU& l) {
+    return nearestTexel ? sampleNearestAt(l, texels, lut, ru, rv) : sampleBilinearAt(l, texels, lut, ru, rv);
   };
-  if (m == kNearest || m == 9729 || t.levels <= 1) return level(0);
+  if (m == kNearest || m == 9729 || t.levels <= 1) return sample(t);
   const float maxLod = float(t.levels - 1);
   const float l = lod > maxLod ? maxLod : lod;
-  if (m == kNearestMipNearest || m == kLinearMipNearest) return level(int(l + 0.5f));
+  if (m == kNearestMipNearest || m == kLinearMipNearest) return sample(mipLevel(t, int(l + 0.5f)));
   const int k = int(::floorf(l));
   const float f = l - float(k);
-  const float4 a = level(k);
+  const TextureGPU lk = mipLevel(t, k);
+  const float4 a = sample(lk);
   if (f <= 0.0f || k + 1 >= t.levels) return a;
-  return a * (1.0f - f) + level(k + 1) * f;
+  return a * (1.0f - f) + sample(nextMip(lk)) * f;
 }
 
 // A glTF sampler's filtering (TextureGPU::magFilter, minFilter, GL enums) for
