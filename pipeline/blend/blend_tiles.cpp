@@ -240,33 +240,11 @@ struct Peel {
         if (!a.textured && !fs.sc.hasColor && !f.textured) {
           const float alpha = cleanAlpha(a.alpha);  // AlphaScene::alphaFrom of a constant alpha
           if (!(alpha > 0.0f)) continue;           // no fragment
-          const RasterTri& t = *f.t;
-          const Edges& E = f.e;
-          const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+          // The edge values at the sample of pixel (X, Y) (Edges::atSample),
+          // exact integers in double; the headlight's lighting.
           SpanConsts c;
-          // E_i at the sample of pixel (X, Y): A_i X + B_i Y + C_i plus the
-          // sample's offset (Edges::atSample), exact integers in double.
-          c.a0 = double(E.A[0]);
-          c.a1 = double(E.A[1]);
-          c.a2 = double(E.A[2]);
-          c.r0 = double(E.B[0]);
-          c.r1 = double(E.B[1]);
-          c.r2 = double(E.B[2]);
-          c.k0 = double(E.atSample(0, E.C[0], ox, oy));
-          c.k1 = double(E.atSample(1, E.C[1], ox, oy));
-          c.k2 = double(E.atSample(2, E.C[2], ox, oy));
-          c.ia = t.invArea;
-          const bool persp = fs.sh.p.perspective != 0;
-          c.iw0 = persp ? t.invW[0] : 1.0f;
-          c.iw1 = persp ? t.invW[1] : 1.0f;
-          c.iw2 = persp ? t.invW[2] : 1.0f;
-          c.t00 = t.bary[0][0]; c.t10 = t.bary[1][0]; c.t20 = t.bary[2][0];
-          c.t01 = t.bary[0][1]; c.t11 = t.bary[1][1]; c.t21 = t.bary[2][1];
-          c.n0 = f.n[0]; c.n1 = f.n[1]; c.n2 = f.n[2];
-          c.q0 = f.pos[0]; c.q1 = f.pos[1]; c.q2 = f.pos[2];
-          c.eye = f.eye;
-          c.ambient = fs.sh.p.ambient;
-          c.headI = 1.0f - fs.sh.p.ambient;
+          fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
+                         1.0f - fs.sh.p.ambient);
           alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
           alignas(32) float b0[kPeelRun], b1[kPeelRun], b2[kPeelRun], nx[kPeelRun], ny[kPeelRun], nz[kPeelRun],
               diffuse[kPeelRun];

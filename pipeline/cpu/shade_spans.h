@@ -232,29 +232,8 @@ struct ShadeSpans : Shade {
   KOKKOS_INLINE_FUNCTION void prepareSpan(SpanTri& st) const {
     st.spanReady = 1;
     const TriFrag& f = st.f;
-    const RasterTri& t = *f.t;
-    const Edges& e = f.e;
-    SpanConsts& k = st.k;
-    k.a1 = double(e.A[1]);
-    k.a2 = double(e.A[2]);
-    k.a0 = double(e.A[0]);
-    k.r0 = double(e.B[0]);
-    k.r1 = double(e.B[1]);
-    k.r2 = double(e.B[2]);
-    k.k0 = double(e.C[0]);
-    k.k1 = double(e.C[1]);
-    k.k2 = double(e.C[2]);
-    k.ia = t.invArea;
-    k.iw0 = p.perspective ? t.invW[0] : 1.0f;
-    k.iw1 = p.perspective ? t.invW[1] : 1.0f;
-    k.iw2 = p.perspective ? t.invW[2] : 1.0f;
-    k.t00 = t.bary[0][0]; k.t10 = t.bary[1][0]; k.t20 = t.bary[2][0];
-    k.t01 = t.bary[0][1]; k.t11 = t.bary[1][1]; k.t21 = t.bary[2][1];
-    k.n0 = f.n[0]; k.n1 = f.n[1]; k.n2 = f.n[2];
-    k.q0 = f.pos[0]; k.q1 = f.pos[1]; k.q2 = f.pos[2];
-    k.eye = p.frame(0).camera.eye;
-    k.ambient = p.ambient;
-    k.headI = p.headlight ? 1.0f - p.ambient : 0.0f;
+    fillSpanConsts(st.k, f, 0, 0, p.perspective != 0, p.frame(0).camera.eye, p.ambient,
+                   p.headlight ? 1.0f - p.ambient : 0.0f);
     if (f.textured) {
       SpanTex& x = st.tex;
       x.texels = texels.data() + f.tex.offset;

@@ -44,6 +44,36 @@ struct SpanConsts {
   float ambient, headI;           // headI: the headlight's intensity, 0 without it
 };
 
+// Every field of k but the span's own (s0, s1, s2) for triangle f (its
+// set-up, TriFrag) at sample offset (ox, oy) of every pixel: the opaque span
+// shading's at the pixel centre (shade_spans.h) and the BLEND resolve's lit
+// block rows at a sample (pipeline/blend/blend_tiles.cpp).
+KOKKOS_INLINE_FUNCTION void fillSpanConsts(SpanConsts& k, const shading::TriFrag& f, int32_t ox, int32_t oy,
+                                           bool perspective, float3 eye, float ambient, float headI) {
+  const RasterTri& t = *f.t;
+  const Edges& e = f.e;
+  k.a0 = double(e.A[0]);
+  k.a1 = double(e.A[1]);
+  k.a2 = double(e.A[2]);
+  k.r0 = double(e.B[0]);
+  k.r1 = double(e.B[1]);
+  k.r2 = double(e.B[2]);
+  k.k0 = double(e.atSample(0, e.C[0], ox, oy));
+  k.k1 = double(e.atSample(1, e.C[1], ox, oy));
+  k.k2 = double(e.atSample(2, e.C[2], ox, oy));
+  k.ia = t.invArea;
+  k.iw0 = perspective ? t.invW[0] : 1.0f;
+  k.iw1 = perspective ? t.invW[1] : 1.0f;
+  k.iw2 = perspective ? t.invW[2] : 1.0f;
+  k.t00 = t.bary[0][0]; k.t10 = t.bary[1][0]; k.t20 = t.bary[2][0];
+  k.t01 = t.bary[0][1]; k.t11 = t.bary[1][1]; k.t21 = t.bary[2][1];
+  k.n0 = f.n[0]; k.n1 = f.n[1]; k.n2 = f.n[2];
+  k.q0 = f.pos[0]; k.q1 = f.pos[1]; k.q2 = f.pos[2];
+  k.eye = eye;
+  k.ambient = ambient;
+  k.headI = headI;
+}
+
 // One pixel of spanLightingFrom's loop (and of laneLighting's): from the
 // screen-space weights times 1/w (w0..w2), the weights in the drawn triangle
 // (c0..c2), the unit normal and the headlight's diffuse term, as
