@@ -59,13 +59,6 @@ bool defaultInstance(const ExecutionSpace& exec) {
 #endif
 }
 
-// Host memory the device copies into without a wait (page-locked on GPUs).
-#if KOKKOS_VERSION >= 40000
-using PinnedSpace = Kokkos::SharedHostPinnedSpace;
-#else
-using PinnedSpace = Kokkos::HostSpace;
-#endif
-
 // One pixel's (u, v, z/w, id + 1), stored whole.
 struct alignas(16) Pixel4 {
   float x, y, z, w;
@@ -91,12 +84,13 @@ KOKKOS_INLINE_FUNCTION void putPixel(const View<float** [4]>& out, Pixel4* wide,
 // frame is the one a fresh renderer of the same triangles draws.
 //
 // The inputs are checked by the kernel that writes them into the scene: the
-// first bad one (by position in the input) goes to a device scalar, copied to
-// page-locked host memory behind the kernel and read once the frame is done,
-// which the frame waits for anyway (its buffers' fit). So a call waits for the
-// device once for the frame and once at its end, and never just to check its
-// inputs. Bad vertices and indices are replaced by harmless ones (vertex 0 at
-// the origin) for the frame that is then thrown away.
+// first bad one (by position in the input) goes to a device scalar, which the
+// output pass's first thread copies to page-locked host memory along with the
+// frame's counters (FrameKeys::publish), read once the frame is done, which the
+// frame waits for anyway (its buffers' fit). So a call waits for the device
+// once, and never just to check its inputs. Bad vertices and indices are
+// replaced by harmless ones (vertex 0 at the origin) for the frame that is
+// then thrown away.
 struct Rasterizer::Impl {
   std::unique_ptr<::rast::Renderer> renderer;
   int64_t nv = -1, nt = -1;
@@ -153,8 +147,15 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
   const auto positions = ds.positions;
   const auto indices = ds.indices;
   const auto firstBad = im.firstBad;
+  // Written by the output pass where the device can write page-locked host
+  // memory (kPinnedFromDevice), else copied after the frame.
+  int64_t* const firstBadOut = kPinnedFromDevice ? im.firstBadHost.data() : nullptr;
   Kokkos::parallel_for(
-      "rast::api::inputs_in", Kokkos::RangePolicy<ExecutionSpace>(exec, 0, none), KOKKOS_LAMBDA(const int64_t j) {
+      // Lightweight (pipeline/data/device.h): its functor, over 512 bytes,
+      // travels as a kernel argument, not through Kokkos' constant-memory
+      // launch and its host-side wait.
+      "rast::api::inputs_in", lightweight(Kokkos::RangePolicy<ExecutionSpace>(exec, 0, none)),
+      KOKKOS_LAMBDA(const int64_t j) {
         bool ok;
         if (j < nv) {
           const float x = pos(j, 0), y = pos(j, 1), z = pos(j, 2), w = pos(j, 3);
@@ -168,7 +169,6 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
         }
         if (!ok) Kokkos::atomic_fetch_min(&firstBad(), j);
       });
-  Kokkos::deep_copy(exec, im.firstBadHost, im.firstBad);
   // The renderer draws on the space's default instance: exec's work must be
   // done first, unless exec is that instance (then the order is the stream's).
   if (!defaultInstance(exec)) exec.fence();
@@ -198,10 +198,18 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
                              ? reinterpret_cast<Pixel4*>(out.data())
                              : nullptr;
     Kokkos::parallel_for(
-        "rast::api::barycentrics", Kokkos::RangePolicy<ExecutionSpace>(ExecutionSpace(), 0, int64_t(height) * width),
+        "rast::api::barycentrics",
+        lightweight(Kokkos::RangePolicy<ExecutionSpace>(ExecutionSpace(), 0, int64_t(height) * width)),
         KOKKOS_LAMBDA(const int64_t p) {
-          // One thread a pixel along rows: neighbouring threads write neighbouring outputs.
-          const int64_t y = p / width, x = p - y * width;
+          // One thread a pixel along rows: neighbouring threads write neighbouring
+          // outputs. 32-bit arithmetic (p < 2^28): a 64-bit division is several
+          // times longer on a GPU, and this pass is bound by its instructions.
+          const uint32_t pu = uint32_t(p), w32 = uint32_t(width), yu = pu / w32;
+          const int64_t y = int64_t(yu), x = int64_t(pu - yu * w32);
+          if (p == 0) {  // the frame's counters and the inputs' first bad element, for the host's one wait
+            keys.publish();
+            if (firstBadOut) *firstBadOut = firstBad();
+          }
           const int64_t drawn = keys.take(p, int32_t(x), int32_t(y));  // the input triangle, not a clipped piece
           if (drawn < 0) {
             putPixel(out, wide, p, y, x, Pixel4{0.0f, 0.0f, 0.0f, 0.0f});
@@ -227,7 +235,8 @@ void Rasterizer::rasterize(const ExecutionSpace& exec, View<const float* [4]> po
     // Counters are deterministic: the second attempt fits (as Renderer::render).
     if (attempt >= 3) throw Error("internal: frame buffers did not converge");
   }
-  exec.fence();  // the copy of firstBad, queued on exec
+  // firstBadHost: written by the output pass, which lastFrameFit waited for.
+  if (!kPinnedFromDevice) Kokkos::deep_copy(im.firstBadHost, im.firstBad);
   if (im.firstBadHost() < none) {
     const int64_t j = im.firstBadHost();
     Kokkos::deep_copy(exec, im.firstBad, std::numeric_limits<int64_t>::max());

@@ -33,6 +33,18 @@ using Exec = Kokkos::DefaultExecutionSpace;
 
 using Mem = Exec::memory_space;
 
+// Host memory the device reads and writes directly, without a staged copy
+// (page-locked and mapped on GPUs): small results the host waits for, such
+// as a frame's counters, land there from a kernel or one asynchronous copy.
+// Where Kokkos (before 4.0) has no such space, plain host memory: kernels of
+// a GPU build cannot write it, and kPinnedFromDevice says so.
+#if KOKKOS_VERSION >= 40000
+using PinnedSpace = Kokkos::SharedHostPinnedSpace;
+#else
+using PinnedSpace = Kokkos::HostSpace;
+#endif
+constexpr bool kPinnedFromDevice = Kokkos::SpaceAccessibility<Exec, PinnedSpace>::accessible;
+
 // True when Space's kernels cannot read host memory, i.e. they run on a
 // discrete accelerator (CUDA, HIP, SYCL) rather than on the host's cores
 // (Serial, OpenMP, Threads, HPX). Decided by Kokkos' accessibility traits, so

@@ -169,6 +169,23 @@ py::array toNumpy(const DeviceArray& a) {
   return host;
 }
 
+// A Kokkos Tools profile region, closed by end() or at the scope's end
+// (exceptions included), so that tools see where a call's host time goes.
+class ProfileRegion {
+ public:
+  explicit ProfileRegion(const char* name) { Kokkos::Profiling::pushRegion(name); }
+  ~ProfileRegion() { end(); }
+  ProfileRegion(const ProfileRegion&) = delete;
+  ProfileRegion& operator=(const ProfileRegion&) = delete;
+  void end() {
+    if (open_) Kokkos::Profiling::popRegion();
+    open_ = false;
+  }
+
+ private:
+  bool open_ = true;
+};
+
 // nvdiffrast's RasterizeCudaContext: a lib::Rasterizer kept across calls.
 struct RasterizeContext {
   KokkosHold hold;  // first: destroyed after the Kokkos memory below
@@ -192,6 +209,10 @@ View<const T* [Width]> inLibraryMemory(const Borrowed& b, int64_t rows) {
 py::tuple rasterize(RasterizeContext& ctx, py::handle posH, py::handle triH, int height, int width) {
   if (height < 1 || width < 1 || height > 16384 || width > 16384)
     throw py::value_error("resolution: (height, width) must be within 1..16384");
+  // Profile regions (Kokkos Tools): a call's host time is mostly its fixed
+  // cost on small scenes (docs/python.md), split here into the inputs' import
+  // and the library's call.
+  ProfileRegion whole("rast::python::rasterize"), inputs("rast::python::rasterize::inputs");
   Borrowed pb(posH, "pos"), tb(triH, "tri", pb.ordered());
   const int pr = pb.check<float>({2, 3}, 4);
   tb.check<int32_t>({2}, 3);
@@ -200,6 +221,7 @@ py::tuple rasterize(RasterizeContext& ctx, py::handle posH, py::handle triH, int
   const auto tri = inLibraryMemory<int32_t, 3>(tb, nt);
   auto out = ctx.outputs.take<float>("rast::python::rasterize_out", {batch, height, width, 4});
   auto ids = ctx.outputs.take<int32_t>("rast::python::rasterize_ids", {batch, height, width});
+  inputs.end();
   {
     py::gil_scoped_release nogil;
     const int64_t pixels = int64_t(height) * width;
@@ -208,6 +230,7 @@ py::tuple rasterize(RasterizeContext& ctx, py::handle posH, py::handle triH, int
                                width, height, View<float** [4]>(out.data<float>() + b * pixels * 4, height, width),
                                View<int32_t**>(ids.data<int32_t>() + b * pixels, height, width));
   }
+  ProfileRegion outputs("rast::python::rasterize::outputs");
   return py::make_tuple(out, ids);
 }
 

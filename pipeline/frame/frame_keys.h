@@ -7,6 +7,12 @@
 // it reads no key of a block the raster left alone this frame (the block
 // tags). FrameKeys::take does the same for the caller's pass, one pixel at a
 // time, so a keys-only frame costs what a shaded one costs minus the shading.
+//
+// The same pass hands the frame's counters to the host (publish): its first
+// thread copies them into the renderer's page-locked host copy, which the
+// device writes directly, so Renderer::lastFrameFit only waits for the pass
+// and no copy follows it (on the H100 the copy's own launch and the wait for
+// the copy engine cost a call about 5-8 us of a 100 us fixed cost).
 #pragma once
 
 #include "pipeline/data/frame_buffers.h"
@@ -23,6 +29,15 @@ struct FrameKeys {
   int32_t blocksPerRow = 0;
   int32_t tagged = 0;       // the raster tagged the blocks it wrote (ShadeParams::blockFrames)
   int32_t resetBlocks = 0;  // the block depth bounds exist and are reset with the keys
+  DView<uint32_t> counters;    // the frame's counters (frame_buffers.h), final once the pass runs
+  uint32_t* countersOut = nullptr;  // the renderer's host copy, device-writable (null: the renderer copies)
+
+  // Called by exactly one thread of the pass (the caller's choice, e.g. the
+  // one that takes pixel 0).
+  KOKKOS_INLINE_FUNCTION void publish() const {
+    if (countersOut)
+      for (size_t i = 0; i < counters.extent(0); ++i) countersOut[i] = counters(i);
+  }
 
   // The drawn triangle (primitive id - 1) covering pixel (x, y), index i
   // (bottom row first), or -1 where none does. Every pixel of the frame must

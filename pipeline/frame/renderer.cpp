@@ -205,6 +205,7 @@ void Renderer::prepare(const RenderSettings& rs) {
 }
 
 void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* timer) {
+  countersPublished_ = false;  // until this frame's keys are taken
   if (split_) {  // every part prepares, or none renders
     std::string error;
     try {
@@ -375,14 +376,25 @@ FrameKeys Renderer::takeKeys() {
   k.tagged = plan_.shadeParams.blockFrames && frame_.blockFrame.data() ? 1 : 0;
   k.resetBlocks = frame_.blockDepth.data() && frame_.blockDepth.extent(0) >= numBlocks ? 1 : 0;
   frame_.visClear = true;
+  if (kPinnedFromDevice) {  // else lastFrameFit copies them, as after other frames
+    hostCounters();
+    k.counters = frame_.counters;
+    k.countersOut = countersHost_.data();
+    countersPublished_ = true;
+  }
   return k;
 }
 
-bool Renderer::lastFrameFit(FrameStats* stats) {
+void Renderer::hostCounters() {
   if (countersHost_.extent(0) != frame_.counters.extent(0))
     countersHost_ = decltype(countersHost_)("frame.countersHost", frame_.counters.extent(0));
+}
+
+bool Renderer::lastFrameFit(FrameStats* stats) {
+  hostCounters();
   const auto& h = countersHost_;
-  Kokkos::deep_copy(Exec(), h, frame_.counters);
+  if (!countersPublished_) Kokkos::deep_copy(Exec(), h, frame_.counters);  // else the keys' pass wrote them
+  countersPublished_ = false;
   Exec().fence();
   const uint32_t need = h(kRasterTris);
   if (plan_.autoStats) {

@@ -88,7 +88,8 @@ class Renderer {
   // After enqueue() with RenderSettings::keysOnly (one sample a pixel): the
   // frame's keys, for one pass of the caller's over every pixel, queued next
   // on the default instance (FrameKeys::take). The next frame counts on that
-  // pass having cleared them.
+  // pass having cleared them, and lastFrameFit on one of its threads having
+  // published the counters (FrameKeys::publish).
   FrameKeys takeKeys();
 
   // Reads the device counters of the last frame (a small copy that waits for
@@ -164,11 +165,11 @@ class Renderer {
   // The counters' copy in host memory the device writes directly (page-locked
   // on GPUs), read by lastFrameFit: an asynchronous copy and a wait on the
   // instance, instead of a staged copy between two waits on the whole device.
-#if KOKKOS_VERSION >= 40000
-  Kokkos::View<uint32_t*, Kokkos::SharedHostPinnedSpace> countersHost_;
-#else
-  Kokkos::View<uint32_t*, Kokkos::HostSpace> countersHost_;
-#endif
+  // After takeKeys() the caller's pass writes them there itself
+  // (FrameKeys::publish), and lastFrameFit only waits (countersPublished_).
+  Kokkos::View<uint32_t*, PinnedSpace> countersHost_;
+  bool countersPublished_ = false;
+  void hostCounters();  // countersHost_ sized to the counters
   bool supersampling_ = false;
   bool blendFallback_ = false;  // the exact tile lists would exceed the budget: kbuffer (lastFrameFit)
   uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame composited  // inside renderSupersampled: passes shade to the film, no post chain

@@ -130,7 +130,10 @@ TEST_CASE("a moving camera on one renderer gives the frames of fresh renderers",
 // its keys, which the caller's pass reads through FrameKeys::take; take
 // clears them and resets the visbuffer's block bounds, as shading does. The
 // ids taken must be a shaded frame's, and the frames after it, keys-only or
-// shaded, must not see a key it left: close and far views alternate.
+// shaded, must not see a key it left: close and far views alternate. The
+// pass's first thread publishes the counters (FrameKeys::publish), which
+// lastFrameFit then reads without a copy: they must be this frame's (the two
+// views rasterise different numbers of triangles).
 TEST_CASE("keys-only frames give the shaded frame's ids and leave the keys clear", "[frame-reuse][keys]") {
   const Scene s = builtinScene("builtin:default");
   const Camera close = defaultCamera(s);
@@ -147,7 +150,8 @@ TEST_CASE("keys-only frames give the shaded frame's ids and leave the keys clear
     rs.raster = method;
     INFO("method " << int(method));
     Renderer r(s);
-    size_t changed = 0;
+    size_t changed = 0, trisChanged = 0;
+    uint32_t lastTris = 0;
     std::vector<uint32_t> last;
     for (int step = 0; step < 6; ++step) {
       const bool keys = step % 3 != 2;  // two keys-only frames, then a shaded one
@@ -164,10 +168,18 @@ TEST_CASE("keys-only frames give the shaded frame's ids and leave the keys clear
         const int32_t w = rs.width;
         Kokkos::parallel_for(
             "rast::test::take_keys", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(const int64_t i) {
+              if (i == 0) fk.publish();
               const int64_t t = fk.take(i, int32_t(i % w), int32_t(i / w));
               out(i) = uint32_t(t + 1);
             });
-        REQUIRE(r.lastFrameFit());
+        FrameStats got, want;
+        REQUIRE(r.lastFrameFit(&got));
+        Renderer shaded(s);
+        shaded.render(cam, rs);
+        shaded.lastFrameFit(&want);
+        REQUIRE(got.rasterTris == want.rasterTris);
+        trisChanged += step > 0 && got.rasterTris != lastTris;
+        lastTris = got.rasterTris;
         auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out);
         ids.assign(h.data(), h.data() + n);
         REQUIRE_THROWS(r.takeKeys());  // once a frame
@@ -182,5 +194,6 @@ TEST_CASE("keys-only frames give the shaded frame's ids and leave the keys clear
       last = ids;
     }
     CHECK(changed > 1000);
+    CHECK(trisChanged > 0);  // stale counters would have been caught
   }
 }
