@@ -12,8 +12,9 @@
 #   .device/lib-mpi/                             Debian's OpenMPI libraries (RAST_MPI builds), used
 #                                                where the target has no OpenMPI 4 (session_h100.sh)
 #   .device/python/rast/                         the CUDA build's Python module, when built
-#   .device/kokkos_count.so                      Kokkos Tools launch counter (scripts/device/kokkos_count.cpp)
-#   .device/kokkos_ktime.so                      Kokkos Tools per-kernel timer (scripts/device/kokkos_ktime.cpp)
+#   .device/kokkos_count.so                      Kokkos Tools launch counter (scripts/device/kokkos_tools/kokkos_count.cpp)
+#   .device/kokkos_ktime.so                      Kokkos Tools per-kernel timer (scripts/device/kokkos_tools/kokkos_ktime.cpp)
+#   .device/kokkos_htime.so                      Kokkos Tools host timeline of a call (scripts/device/kokkos_tools/kokkos_htime.cpp)
 #   .device/src/tests/                           golden images and CLI test scripts of the
 #                                                sources the binaries were built from
 #   .device/build.env                            where the binaries were built (test data
@@ -103,10 +104,12 @@ fi
 
 # Kernel-launch counter (Kokkos Tools library; run_suite.sh uses it when present).
 if command -v g++ >/dev/null; then
-  g++ -O2 -shared -fPIC -o "$dev/kokkos_count.so" "$root/scripts/device/kokkos_count.cpp" ||
+  g++ -O2 -shared -fPIC -o "$dev/kokkos_count.so" "$root/scripts/device/kokkos_tools/kokkos_count.cpp" ||
     echo "pack.sh: note: kokkos_count.so not built; no launch counts" >&2
-  g++ -O2 -shared -fPIC -o "$dev/kokkos_ktime.so" "$root/scripts/device/kokkos_ktime.cpp" -ldl ||
+  g++ -O2 -shared -fPIC -o "$dev/kokkos_ktime.so" "$root/scripts/device/kokkos_tools/kokkos_ktime.cpp" -ldl ||
     echo "pack.sh: note: kokkos_ktime.so not built; no per-kernel times" >&2
+  g++ -O2 -shared -fPIC -o "$dev/kokkos_htime.so" "$root/scripts/device/kokkos_tools/kokkos_htime.cpp" ||
+    echo "pack.sh: note: kokkos_htime.so not built; no host timelines" >&2
 fi
 
 # Non-system shared libraries the binaries use (libgomp for the OpenMP build;

@@ -4,7 +4,7 @@
 // count per name on Kokkos::finalize. The synchronisation removes overlap
 // between kernels, so the sum is an upper bound on a real frame; use it to see
 // which kernel of a stage dominates, not for frame times.
-//   g++ -O2 -shared -fPIC -o kokkos_ktime.so scripts/device/kokkos_ktime.cpp -ldl
+//   g++ -O2 -shared -fPIC -o kokkos_ktime.so scripts/device/kokkos_tools/kokkos_ktime.cpp -ldl
 //   KOKKOS_TOOLS_LIBS=$PWD/kokkos_ktime.so rast bench SCENE --frames 100
 #include <dlfcn.h>
 

@@ -1,7 +1,7 @@
 // A minimal Kokkos Tools library that counts kernel launches (parallel_for /
 // reduce / scan), deep copies and fences by name, and prints the table on
 // Kokkos::finalize. Build with any host compiler (it has no Kokkos dependency):
-//   g++ -O2 -shared -fPIC -o kokkos_count.so scripts/device/kokkos_count.cpp
+//   g++ -O2 -shared -fPIC -o kokkos_count.so scripts/device/kokkos_tools/kokkos_count.cpp
 // Use: KOKKOS_TOOLS_LIBS=$PWD/kokkos_count.so rast bench --frames 10 --warmup 0
 // (per-frame kernels then appear frames + max(warmup, 1) times).
 #include <cstdint>

@@ -5,7 +5,7 @@
 // rast::api::inputs_in: one rast.rasterize call). Why: to see where a call's
 // host time goes (launch calls, waits, and the gaps between them where the
 // host does its own work), which the CUDA traces show only in part.
-//   g++ -O2 -shared -fPIC -o kokkos_htime.so scripts/device/kokkos_htime.cpp
+//   g++ -O2 -shared -fPIC -o kokkos_htime.so scripts/device/kokkos_tools/kokkos_htime.cpp
 //   KOKKOS_TOOLS_LIBS=$PWD/kokkos_htime.so python3 ...
 #include <algorithm>
 #include <chrono>
