@@ -80,8 +80,11 @@ struct PbrTri {
 // What the glTF shading of a frame uses, fixed when its kernel is compiled
 // (pipeline/shade/pbr_fragment.h): texture coordinates (some material samples a
 // texture), the environment's light, the file's punctual lights. kPbrAny:
-// each read at run time (the general kernel).
-enum PbrFeature : int { kPbrTextured = 1, kPbrEnv = 2, kPbrPunctual = 4, kPbrAny = -1 };
+// each read at run time (the general kernel). kPbrClearcoat: some material
+// has a KHR_materials_clearcoat layer; that instance (kPbrClearcoat alone)
+// reads the other three at run time, so that the rare scenes with a coat
+// compile one instance more, not eight, and the others carry none of it.
+enum PbrFeature : int { kPbrTextured = 1, kPbrEnv = 2, kPbrPunctual = 4, kPbrClearcoat = 8, kPbrAny = -1 };
 
 struct Shade {
   // scene
@@ -93,6 +96,8 @@ struct Shade {
   DView<float4> tangents;  // DeviceScene::tangents (read when hasTangent)
   DView<float2> uvs1;      // DeviceScene::uvs1 (read when hasUV1)
   DView<MaterialGPU> materials;
+  DView<ClearcoatGPU> clearcoats;  // DeviceScene::clearcoats (read where a material has kMaterialClearcoat)
+  int32_t hasClearcoat = 0;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;
   DView<float> lut;               // sRGB decode (textures)
@@ -206,7 +211,8 @@ struct Shade {
         }
         // The glTF model samples the material's other textures with the same coordinates.
         if (readsGltfMaterial(p.mode) && hasUV &&
-            (m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0))
+            (m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 || m.emissiveTexture >= 0 ||
+             (m.flags & kMaterialClearcoat)))
           wantUV = true;
       }
       if (hasColor) {
@@ -345,9 +351,16 @@ struct Shade {
   // (left as they are where the material has no such texture, or no
   // emission), sampled in one loop: on a GPU one copy of the filter's code
   // in the kernel (docs/cuda.md).
+  // kSlots: kTextureSlots, or kCoatSlots with the clear coat's three (cc's).
   static constexpr int kTextureSlots = SlotEmissive + 1;
-  RAST_GPU_INLINE void materialTexels(const TriFrag& f, const MaterialGPU& m, uint32_t on1, const UvSet& c0,
-                                      const UvSet& c1, float4 (&tx)[kTextureSlots]) const;
+  static constexpr int kCoatSlots = SlotClearcoatNormal + 1;
+  template <int kSlots>
+  RAST_GPU_INLINE void materialTexels(const TriFrag& f, const MaterialGPU& m, const ClearcoatGPU& cc, uint32_t on1,
+                                      const UvSet& c0, const UvSet& c1, float4 (&tx)[kSlots]) const;
+  // Normal mapping's tangent frame at a fragment (T and B turned with a back
+  // face, and Ng, the normal turned); false where there is none (Ng alone).
+  RAST_GPU_INLINE bool tangentFrame(const TriFrag& f, float b0, float b1, float b2, float3 N, bool back,
+                                    const UvSet& c, float3& T, float3& B, float3& Ng) const;
   RAST_GPU_INLINE float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
                                       float3 N, bool back, const UvSet& c, const float4& texel) const;
   RAST_GPU_INLINE PbrTri pbrTri(const TriFrag& f) const;
