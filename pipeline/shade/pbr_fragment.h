@@ -41,33 +41,50 @@ RAST_GPU_INLINE float4 Shade::sampleTexture(const TextureGPU& tex, float2 uv, De
 // left the textured kernel's body out of line (the functor copied to every
 // thread's stack) or saved the registers around five calls to the filter;
 // here the filter is one copy of code, inlined.
-// The clear coat's instance (kSlots = kCoatSlots) samples the coat's three
-// textures (cc's) in the same loop.
-template <int kSlots>
-RAST_GPU_INLINE void Shade::materialTexels(const TriFrag& f, const MaterialGPU& m, const ClearcoatGPU& cc,
-                                           uint32_t on1, const UvSet& c0, const UvSet& c1,
-                                           float4 (&tx)[kSlots]) const {
+RAST_GPU_INLINE void Shade::materialTexels(const TriFrag& f, const MaterialGPU& m, uint32_t on1, const UvSet& c0,
+                                           const UvSet& c1, float4 (&tx)[kTextureSlots]) const {
   const bool emits = m.emissive.x > 0.0f || m.emissive.y > 0.0f || m.emissive.z > 0.0f;
 #if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
 #pragma unroll 1
 #endif
-  for (int k = 0; k < kSlots; ++k) {
-    int32_t index = k == SlotBaseColor    ? m.texture
-                    : k == SlotMetalRough ? m.mrTexture
-                    : k == SlotNormal     ? m.normalTexture
-                    : k == SlotOcclusion  ? m.occlusionTexture
-                    : emits               ? m.emissiveTexture
-                                          : -1;
-    if constexpr (kSlots > kTextureSlots) {
-      if (k > SlotEmissive)
-        index = k == SlotClearcoat ? cc.texture : k == SlotClearcoatRoughness ? cc.roughnessTexture : cc.normalTexture;
-    }
+  for (int k = 0; k < kTextureSlots; ++k) {
+    const int32_t index = k == SlotBaseColor    ? m.texture
+                          : k == SlotMetalRough ? m.mrTexture
+                          : k == SlotNormal     ? m.normalTexture
+                          : k == SlotOcclusion  ? m.occlusionTexture
+                          : emits               ? m.emissiveTexture
+                                                : -1;
     if (index < 0) continue;
     // The base colour's coordinates are always the first set; colour
     // textures are decoded from sRGB, data textures as unorm.
     const UvSet& c = k != SlotBaseColor && (on1 >> k & 1u) ? c1 : c0;
     const bool srgb = k == SlotBaseColor || k == SlotEmissive;
     // The base colour's texture is the triangle's (TriFrag::tex, loaded by prepare).
+    const TextureGPU tex = k == SlotBaseColor ? f.tex : textures(index);
+    tx[k] = sampleTexture(tex, c.uv, DecodeTable{srgb ? lut.data() : unorm.data()}, c.dx, c.dy);
+  }
+}
+
+// The same loop over the base's slots and the clear coat's (all linear data).
+RAST_TEXELS_INLINE void Shade::coatTexels(const TriFrag& f, const MaterialGPU& m, const ClearcoatGPU& cc,
+                                          uint32_t on1, const UvSet& c0, const UvSet& c1,
+                                          float4 (&tx)[kCoatSlots]) const {
+  const bool emits = m.emissive.x > 0.0f || m.emissive.y > 0.0f || m.emissive.z > 0.0f;
+#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < kCoatSlots; ++k) {
+    const int32_t index = k == SlotBaseColor            ? m.texture
+                          : k == SlotMetalRough         ? m.mrTexture
+                          : k == SlotNormal             ? m.normalTexture
+                          : k == SlotOcclusion          ? m.occlusionTexture
+                          : k == SlotEmissive           ? (emits ? m.emissiveTexture : -1)
+                          : k == SlotClearcoat          ? cc.texture
+                          : k == SlotClearcoatRoughness ? cc.roughnessTexture
+                                                        : cc.normalTexture;
+    if (index < 0) continue;
+    const UvSet& c = k != SlotBaseColor && (on1 >> k & 1u) ? c1 : c0;
+    const bool srgb = k == SlotBaseColor || k == SlotEmissive;
     const TextureGPU tex = k == SlotBaseColor ? f.tex : textures(index);
     tx[k] = sampleTexture(tex, c.uv, DecodeTable{srgb ? lut.data() : unorm.data()}, c.dx, c.dy);
   }
@@ -202,9 +219,11 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
     c0 = uvSet(f.uv[0], f.uv[1], f.uv[2], b, bx, by, derivatives);
     if (on1) c1 = uvSet(uvs1(f.s0), uvs1(f.s1), uvs1(f.s2), b, bx, by, derivatives);
   }
-  constexpr int kSlots = kCoat ? kCoatSlots : kTextureSlots;
-  float4 tx[kSlots] = {};
-  if (textured) materialTexels<kSlots>(f, m, cc, on1, c0, c1, tx);
+  float4 tx[kCoat ? kCoatSlots : kTextureSlots] = {};
+  if (textured) {
+    if constexpr (kCoat) coatTexels(f, m, cc, on1, c0, c1, tx);
+    else materialTexels(f, m, on1, c0, c1, tx);
+  }
   float4 base = m.baseColor;
   if (textured && m.texture >= 0) base = base * tx[SlotBaseColor];
   if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
@@ -263,28 +282,30 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   }
 
   float3 color{0.0f, 0.0f, 0.0f};
-  // A light's part, under the coat where there is one.
-  const auto lit = [&](const float3& L, const float3& E) {
-    const float3 c = pbr::shadeLight(s, N, V, L, E);
-    if constexpr (kCoat) return coat ? pbr::coated(cl, c, V, L, E) : c;
-    else return c;
-  };
+  // Each light's part goes under the coat where there is one (pbr::coated).
   if (anyPunctual) {
     for (int k = 0; k < numPunctual; ++k) {
       float3 L;
       const float3 E = pbr::incidentLight(punctual(k), P, L);
-      color = color + lit(L, E);
+      float3 c = pbr::shadeLight(s, N, V, L, E);
+      if constexpr (kCoat) c = coat ? pbr::coated(cl, c, V, L, E) : c;
+      color = color + c;
     }
   } else if (p.headlight) {
     // Scaled by pi: a white Lambertian surface facing it reflects what
     // the Lambert shading's headlight gives it. With an environment, that
     // lights a file without lights of its own instead.
     const float I = (1.0f - p.ambient) * pbr::kPi;
-    if (!useEnv) color = lit(V, float3{I, I, I});
+    if (!useEnv) {
+      color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
+      if constexpr (kCoat) color = coat ? pbr::coated(cl, color, V, V, float3{I, I, I}) : color;
+    }
   } else {
     for (int k = 0; k < int(lights.extent(0)); ++k) {
       const float I = lights(k).intensity * pbr::kPi;
-      color = color + lit(lights(k).direction, float3{I, I, I});
+      float3 c = pbr::shadeLight(s, N, V, lights(k).direction, float3{I, I, I});
+      if constexpr (kCoat) c = coat ? pbr::coated(cl, c, V, lights(k).direction, float3{I, I, I}) : c;
+      color = color + c;
     }
   }
   // Indirect light (the environment's, else an ambient term on the
