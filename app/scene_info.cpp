@@ -15,7 +15,7 @@ bool extensionHonoured(const std::string& name) {
   // other extension is ignored (and refused when a file requires it).
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_lights_punctual" ||
          name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength" || name == "EXT_mesh_gpu_instancing" ||
-         name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression";
+         name == "KHR_materials_clearcoat" || name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression";
 }
 
 void printSceneInfo(const Scene& s, const std::string& source) {
@@ -65,14 +65,14 @@ void printSceneInfo(const Scene& s, const std::string& source) {
               lights ? "honoured by --shading pbr (the default for glTF files)" : "none (rast lights with its headlight)");
 
   std::printf("materials: %u\n", f.materials);
-  static const char* kFeature[10] = {"baseColorTexture",  "metallicRoughnessTexture", "normalTexture",
+  static const char* kFeature[11] = {"baseColorTexture",  "metallicRoughnessTexture", "normalTexture",
                                      "occlusionTexture",  "emissive",                 "alphaMode MASK",
                                      "alphaMode BLEND",   "doubleSided",              "KHR_materials_unlit",
-                                     "KHR_texture_transform"};
+                                     "KHR_texture_transform", "KHR_materials_clearcoat"};
   // What `--shading pbr` uses (pipeline/shade/pbr_shading.h); MASK and BLEND
   // are drawn by the alpha passes (pipeline/blend/, docs/transparency.md).
-  static const bool kHonoured[10] = {true, true, true, true, true, true, true, true, true, true};
-  for (int k = 0; k < 10; ++k)
+  static const bool kHonoured[11] = {true, true, true, true, true, true, true, true, true, true, true};
+  for (int k = 0; k < 11; ++k)
     if (f.materialUses[k])
       std::printf("  %-26s %u material%s: %s\n", kFeature[k], f.materialUses[k], f.materialUses[k] == 1 ? "" : "s",
                   kHonoured[k] ? "honoured" : "ignored");

@@ -66,6 +66,25 @@ tinygltf::Material material(const Material& mat, tinygltf::Model& m) {
     g.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(o);
     useExtension(m, "KHR_materials_emissive_strength");
   }
+  if (mat.hasClearcoat()) {  // KHR_materials_clearcoat: the factors and the textures it has
+    tinygltf::Value::Object o;
+    o["clearcoatFactor"] = tinygltf::Value(double(mat.clearcoat));
+    o["clearcoatRoughnessFactor"] = tinygltf::Value(double(mat.clearcoatRoughness));
+    const auto tex = [&](const char* key, int32_t index, TextureSlot slot, const double* scale) {
+      if (index < 0) return;
+      tinygltf::Value::Object t;
+      t["index"] = tinygltf::Value(int(index));
+      t["texCoord"] = tinygltf::Value(set(slot));
+      if (scale) t["scale"] = tinygltf::Value(*scale);
+      o[key] = tinygltf::Value(t);
+    };
+    const double scale = mat.clearcoatNormalScale;
+    tex("clearcoatTexture", mat.clearcoatTexture, SlotClearcoat, nullptr);
+    tex("clearcoatRoughnessTexture", mat.clearcoatRoughnessTexture, SlotClearcoatRoughness, nullptr);
+    tex("clearcoatNormalTexture", mat.clearcoatNormalTexture, SlotClearcoatNormal, &scale);
+    g.extensions["KHR_materials_clearcoat"] = tinygltf::Value(o);
+    useExtension(m, "KHR_materials_clearcoat");
+  }
   if (mat.unlit) {
     g.extensions["KHR_materials_unlit"] = tinygltf::Value(tinygltf::Value::Object());
     useExtension(m, "KHR_materials_unlit");
@@ -130,7 +149,7 @@ void exportMaterialModel(const Scene& s, tinygltf::Model& m) {
     if (p.material < 0 || p.pointCount > 0 || p.lineCount > 0) continue;
     const Material& mat = s.materials[size_t(p.material)];
     tinygltf::Primitive& gp = m.meshes[i].primitives[0];
-    if (asIs && mat.normalTexture >= 0 && !s.tangents.empty()) {
+    if (asIs && mat.anyNormalMap() && !s.tangents.empty()) {
       const float4* t = &s.tangents[p.firstVertex];
       // glTF tangents are unit with w = +-1: a vertex without one (0,0,0,0) leaves the reader to generate them.
       const bool all = std::all_of(t, t + p.vertexCount, [](const float4& v) { return v.w == 1.0f || v.w == -1.0f; });

@@ -338,6 +338,56 @@ Scene transform() {
   return s;
 }
 
+// Stripes for a clear coat's textures (linear data, nearest), 8 x 4 texels:
+// R (the coat) 255 and 0 in alternate columns (45 degrees of a sphere's
+// longitude each), G (its roughness) 255 and 128 in alternate rows.
+Texture coatStripes() {
+  Texture t;
+  t.width = 8;
+  t.height = 4;
+  t.rgba.resize(32);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x) t.rgba[size_t(y) * 8 + x] = rgba(x % 2 ? 0 : 255, y % 2 ? 128 : 255, 0);
+  t.magFilter = 9728;
+  t.minFilter = 9728;
+  return t;
+}
+
+// KHR_materials_clearcoat over one blue, fairly rough base, under a
+// directional light from the upper left: a sphere without a coat; a coat of
+// factor 1 and roughness 0.2 (a second, sharp highlight, and the base dimmed
+// by its Fresnel term towards the rim); a coat of roughness 0.5 (a broad
+// lobe) whose factor and roughness follow a striped texture (R and G); and a
+// square whose coat (roughness 0.35) has its own normal map (bumps) over a
+// flat base (the file carries TANGENT).
+Scene clearcoat() {
+  Scene s;
+  const int32_t stripes = addTexture(s, coatStripes()), bumps = addTexture(s, bumpNormals(24, 3));
+  const Material base = matte({0.1f, 0.15f, 0.6f, 1.0f}, 0.6f);
+  Material coat = base;
+  coat.clearcoat = 1.0f;
+  coat.clearcoatRoughness = 0.2f;
+  Material textured = coat;
+  textured.clearcoatTexture = stripes;
+  textured.clearcoatRoughness = 0.5f;
+  textured.clearcoatRoughnessTexture = stripes;
+  Material normal = coat;
+  normal.clearcoatRoughness = 0.35f;
+  normal.clearcoatNormalTexture = bumps;
+  addSphere(s, {-0.55f, 0.5f, 0}, 0.42f, addMaterial(s, base));
+  addSphere(s, {0.55f, 0.5f, 0}, 0.42f, addMaterial(s, coat));
+  addSphere(s, {-0.55f, -0.5f, 0}, 0.42f, addMaterial(s, textured));
+  const uint32_t quad = addQuad(s, {0.55f, -0.5f, 0}, {0.42f, 0, 0}, {0, 0.42f, 0}, kUnitUv, addMaterial(s, normal));
+  // The square's tangents (T = +x: u grows along U; v grows down the image,
+  // against V: w = +1), none on the spheres.
+  s.tangents.assign(s.positions.size(), float4{0, 0, 0, 0});
+  const MeshPrim& q = s.prims[quad];
+  for (uint32_t k = 0; k < q.vertexCount; ++k) s.tangents[q.firstVertex + k] = float4{1, 0, 0, 1};
+  s.lights.push_back(light(LightType::Directional, {1, 1, 1}, 3.0f, {0, 0, 0}, {0.45f, -0.5f, -0.75f}));
+  finish(s, {0, 0, 3.6}, {0, 0, 0}, 40);
+  return s;
+}
+
 struct ProbeRow {
   ProbeSceneInfo info;
   Scene (*build)();
@@ -353,6 +403,7 @@ const std::vector<ProbeRow>& probeTable() {
       {{"probe-transform", "glTF probe: textured squares for KHR_texture_transform (added to the export by the test)"},
        transform},
       {{"probe-lights", "glTF probe: directional, point (with and without range) and spot lights"}, lights},
+      {{"probe-clearcoat", "glTF probe: KHR_materials_clearcoat factor, roughness, textures and normal map"}, clearcoat},
   };
   return rows;
 }

@@ -132,6 +132,19 @@ class AccessorReader {
 // and returns its index in Scene::textures.
 Material readMaterial(const tinygltf::Model& m, int mi, const std::function<int32_t(int, const char*)>& texture);
 
+// A texture reference inside a material extension's JSON (tinygltf parses
+// only the core's): its index (-1: absent; one that does not exist is an
+// Error), texCoord, scale (normal textures) and its own extensions
+// (KHR_texture_transform). `at` names the extension for the message.
+struct ExtTexture {
+  int index = -1, texCoord = 0;
+  double scale = 1.0;
+  tinygltf::ExtensionMap extensions;
+};
+ExtTexture extTexture(const tinygltf::Model& m, const tinygltf::Value& ext, const char* key, const std::string& at);
+// The material's KHR_materials_clearcoat object, or null.
+const tinygltf::Value* clearcoatOf(const tinygltf::Material& gm, const std::string& at);
+
 // KHR_lights_punctual light `li`, placed by a node at `world`.
 PunctualLight readLight(const tinygltf::Model& m, int li, const std::string& nodeName, const glm::dmat4& world);
 

@@ -1,6 +1,7 @@
 // glTF materials and KHR_lights_punctual lights as rast holds them (#37):
 // the metallic-roughness model's factors, textures and alpha rules
-// (glTF 2.0, 3.9), KHR_materials_emissive_strength, KHR_materials_unlit, and
+// (glTF 2.0, 3.9), KHR_materials_emissive_strength, KHR_materials_unlit,
+// KHR_materials_clearcoat, and
 // the file's punctual lights placed by their nodes. Kept apart from the model
 // walk (model_walk.cpp) because every value here comes from strangers and is
 // checked against the specification's ranges: a NaN or out-of-range factor is
@@ -30,6 +31,37 @@ double extNumber(const tinygltf::Value& x, const char* key, double dflt, const s
 }
 
 }  // namespace
+
+ExtTexture extTexture(const tinygltf::Model& m, const tinygltf::Value& ext, const char* key, const std::string& at) {
+  ExtTexture t;
+  if (!ext.Has(key)) return t;
+  const std::string x = at + key;
+  const tinygltf::Value& v = ext.Get(key);
+  if (!v.IsObject()) throw Error(x + " must be an object");
+  if (!v.Has("index") || !v.Get("index").IsInt()) throw Error(x + ".index must be an integer");
+  t.index = v.Get("index").GetNumberAsInt();
+  if (t.index < 0 || size_t(t.index) >= m.textures.size())
+    throw Error(x + ".index " + std::to_string(t.index) + " does not exist (the file has " +
+                std::to_string(m.textures.size()) + " textures)");
+  if (v.Has("texCoord")) {
+    if (!v.Get("texCoord").IsInt() || v.Get("texCoord").GetNumberAsInt() < 0)
+      throw Error(x + ".texCoord must be a non-negative integer");
+    t.texCoord = v.Get("texCoord").GetNumberAsInt();
+  }
+  t.scale = extNumber(v, "scale", 1.0, x + ".");
+  if (v.Has("extensions") && v.Get("extensions").IsObject()) {
+    const tinygltf::Value& e = v.Get("extensions");
+    for (const std::string& k : e.Keys()) t.extensions[k] = e.Get(k);
+  }
+  return t;
+}
+
+const tinygltf::Value* clearcoatOf(const tinygltf::Material& gm, const std::string& at) {
+  const auto it = gm.extensions.find("KHR_materials_clearcoat");
+  if (it == gm.extensions.end()) return nullptr;
+  if (!it->second.IsObject()) throw Error(at + " KHR_materials_clearcoat: must be an object");
+  return &it->second;
+}
 
 Material readMaterial(const tinygltf::Model& m, int mi, const std::function<int32_t(int, const char*)>& texture) {
   const tinygltf::Material& gm = m.materials[mi];
@@ -79,6 +111,26 @@ Material readMaterial(const tinygltf::Model& m, int mi, const std::function<int3
   mat.alphaCutoff = float(gm.alphaCutoff);
   mat.doubleSided = gm.doubleSided;
   mat.unlit = gm.extensions.count("KHR_materials_unlit") > 0;
+  // KHR_materials_clearcoat: factors in [0, 1] (default 0), three textures
+  // (R: the coat, G: its roughness, a normal map with its scale). A coat of
+  // 0 is no layer at all: its textures are not even loaded.
+  if (const tinygltf::Value* cc = clearcoatOf(gm, at)) {
+    const std::string x = at + " KHR_materials_clearcoat: ";
+    mat.clearcoat = unitFactor(extNumber(*cc, "clearcoatFactor", 0.0, x), x + "clearcoatFactor");
+    mat.clearcoatRoughness =
+        unitFactor(extNumber(*cc, "clearcoatRoughnessFactor", 0.0, x), x + "clearcoatRoughnessFactor");
+    const ExtTexture t = extTexture(m, *cc, "clearcoatTexture", x);
+    const ExtTexture r = extTexture(m, *cc, "clearcoatRoughnessTexture", x);
+    const ExtTexture n = extTexture(m, *cc, "clearcoatNormalTexture", x);
+    if (mat.hasClearcoat()) {
+      if (t.index >= 0) mat.clearcoatTexture = texture(t.index, "clearcoatTexture");
+      if (r.index >= 0) mat.clearcoatRoughnessTexture = texture(r.index, "clearcoatRoughnessTexture");
+      if (n.index >= 0) {
+        mat.clearcoatNormalTexture = texture(n.index, "clearcoatNormalTexture");
+        mat.clearcoatNormalScale = float(n.scale);
+      }
+    }
+  }
   return mat;
 }
 

@@ -201,11 +201,12 @@ class Loader {
                              gm.normalTexture.extensions.count("KHR_texture_transform") ||
                              gm.occlusionTexture.extensions.count("KHR_texture_transform") ||
                              gm.emissiveTexture.extensions.count("KHR_texture_transform");
-      const bool uses[10] = {pbr.baseColorTexture.index >= 0, pbr.metallicRoughnessTexture.index >= 0,
+      const bool uses[11] = {pbr.baseColorTexture.index >= 0, pbr.metallicRoughnessTexture.index >= 0,
                              gm.normalTexture.index >= 0, gm.occlusionTexture.index >= 0, emissive,
                              gm.alphaMode == "MASK", gm.alphaMode == "BLEND", gm.doubleSided,
-                             gm.extensions.count("KHR_materials_unlit") > 0, transform};
-      for (int k = 0; k < 10; ++k) f.materialUses[k] += uses[k] ? 1 : 0;
+                             gm.extensions.count("KHR_materials_unlit") > 0, transform,
+                             gm.extensions.count("KHR_materials_clearcoat") > 0};
+      for (int k = 0; k < 11; ++k) f.materialUses[k] += uses[k] ? 1 : 0;
     }
   }
 
@@ -374,8 +375,11 @@ class Loader {
   std::vector<float4> tangents(const tinygltf::Primitive& p, int32_t matIndex, bool hasNormals,
                                std::vector<float3>& pos, std::vector<float3>& nrm, std::vector<float2>& uv,
                                std::vector<float2>& uv1, std::vector<float4>& col, std::vector<uint32_t>& idx) {
-    if (matIndex < 0 || s_.materials[matIndex].normalTexture < 0 || !hasNormals || uv.empty()) return {};
-    const std::vector<float2>& normalUv = s_.materials[matIndex].uv1Slots >> SlotNormal & 1u ? uv1 : uv;
+    if (matIndex < 0 || !s_.materials[matIndex].anyNormalMap() || !hasNormals || uv.empty()) return {};
+    // The frame of the base's normal map, else of the clearcoat's (one frame a vertex serves both).
+    const Material& mt = s_.materials[matIndex];
+    const TextureSlot mapSlot = mt.normalTexture >= 0 ? SlotNormal : SlotClearcoatNormal;
+    const std::vector<float2>& normalUv = mt.uv1Slots >> mapSlot & 1u ? uv1 : uv;
     const size_t nv = pos.size();
     const std::string what = "tangents (" + std::to_string(nv) + " vertices)";
     ctx_.ledger.check(what, mulSat(nv, 2 * sizeof(float4)));
@@ -522,13 +526,24 @@ class Loader {
         return t;
       };
       const auto& pbr = gm.pbrMetallicRoughness;
-      const Slot slots[5] = {
+      // KHR_materials_clearcoat's textures, where the material has a coat (readMaterial loaded them).
+      const std::string ccAt = "materials[" + std::to_string(mi) + "] KHR_materials_clearcoat: ";
+      const tinygltf::Value* cc = mat.hasClearcoat() ? clearcoatOf(gm, ccAt) : nullptr;
+      auto ccInfo = [&](const char* key) {
+        if (!cc) return info(-1, 0, {});
+        const ExtTexture t = extTexture(m_, *cc, key, ccAt);
+        return info(t.index, t.texCoord, t.extensions);
+      };
+      const Slot slots[8] = {
           {"baseColorTexture", SlotBaseColor, pbr.baseColorTexture},
           {"metallicRoughnessTexture", SlotMetalRough, pbr.metallicRoughnessTexture},
           {"emissiveTexture", SlotEmissive, gm.emissiveTexture},
           {"normalTexture", SlotNormal, info(gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.extensions)},
           {"occlusionTexture", SlotOcclusion,
-           info(gm.occlusionTexture.index, gm.occlusionTexture.texCoord, gm.occlusionTexture.extensions)}};
+           info(gm.occlusionTexture.index, gm.occlusionTexture.texCoord, gm.occlusionTexture.extensions)},
+          {"clearcoatTexture", SlotClearcoat, ccInfo("clearcoatTexture")},
+          {"clearcoatRoughnessTexture", SlotClearcoatRoughness, ccInfo("clearcoatRoughnessTexture")},
+          {"clearcoatNormalTexture", SlotClearcoatNormal, ccInfo("clearcoatNormalTexture")}};
       LoadedMaterial lm{0, -1, UvTransform{}};
       for (const Slot& sl : slots) {
         if (sl.info.index < 0) continue;

@@ -309,7 +309,7 @@ class SchemaChecker {
 bool extensionSupported(const std::string& name) {
   return name == "KHR_mesh_quantization" || name == "KHR_texture_transform" || name == "KHR_lights_punctual" ||
          name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength" || name == "EXT_mesh_gpu_instancing" ||
-         compressionSupported(name);
+         name == "KHR_materials_clearcoat" || compressionSupported(name);
 }
 
 }  // namespace

@@ -39,7 +39,10 @@ struct Texture {
 enum class AlphaMode : int32_t { Opaque = 0, Mask = 1, Blend = 2 };
 
 // The texture slots of a material, for Material::uv1Slots.
-enum TextureSlot : int32_t { SlotBaseColor = 0, SlotMetalRough = 1, SlotNormal = 2, SlotOcclusion = 3, SlotEmissive = 4 };
+enum TextureSlot : int32_t {
+  SlotBaseColor = 0, SlotMetalRough = 1, SlotNormal = 2, SlotOcclusion = 3, SlotEmissive = 4,
+  SlotClearcoat = 5, SlotClearcoatRoughness = 6, SlotClearcoatNormal = 7  // KHR_materials_clearcoat
+};
 
 // A glTF 2.0 metallic-roughness material (3.9), factors linear. Texture
 // fields index Scene::textures (-1: none). Its textures sample the
@@ -63,10 +66,21 @@ struct Material {
   bool doubleSided = false;
   bool unlit = false;                     // KHR_materials_unlit
   uint32_t uv1Slots = 0;                  // bit k: slot k (TextureSlot) samples Scene::uvs1
+  // KHR_materials_clearcoat (docs/gltf-support.md): a second, dielectric
+  // GGX layer (f0 0.04) over the base. clearcoat 0: no layer (the default).
+  float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
+  int32_t clearcoatTexture = -1;           // R: times clearcoat (linear)
+  int32_t clearcoatRoughnessTexture = -1;  // G: times clearcoatRoughness (linear)
+  int32_t clearcoatNormalTexture = -1;     // tangent space, linear; none: the geometry's normal
+  float clearcoatNormalScale = 1.0f;
+  bool hasClearcoat() const { return clearcoat > 0.0f; }
   bool anyTexture() const {
     return texture >= 0 || metallicRoughnessTexture >= 0 || normalTexture >= 0 || occlusionTexture >= 0 ||
-           emissiveTexture >= 0;
+           emissiveTexture >= 0 || clearcoatTexture >= 0 || clearcoatRoughnessTexture >= 0 ||
+           clearcoatNormalTexture >= 0;
   }
+  // Whether the material needs a tangent frame (a normal map of either layer).
+  bool anyNormalMap() const { return normalTexture >= 0 || clearcoatNormalTexture >= 0; }
 };
 
 // A KHR_lights_punctual light placed in the world by its node: directional
@@ -130,8 +144,9 @@ struct FileFacts {
   uint32_t materials = 0;
   // Materials using: baseColorTexture, metallicRoughnessTexture, normalTexture,
   // occlusionTexture, emission (factor or texture), alphaMode MASK, alphaMode
-  // BLEND, doubleSided, KHR_materials_unlit, KHR_texture_transform (any texture).
-  uint32_t materialUses[10] = {};
+  // BLEND, doubleSided, KHR_materials_unlit, KHR_texture_transform (any texture),
+  // KHR_materials_clearcoat.
+  uint32_t materialUses[11] = {};
   // Normal-mapped primitives (as loaded, once per mesh primitive): with the
   // file's TANGENT, and without (tangents generated, host/scene/tangents.h).
   uint32_t tangentPrims = 0, generatedTangentPrims = 0;

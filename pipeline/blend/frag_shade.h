@@ -209,15 +209,18 @@ using FragCache = FragCacheOf<kResolveCache, kFam>;
 FragFamily fragFamily(const FragShade& fs);
 template <class Go>
 void withFragPath(const FragShade& fs, Go&& go) {
+  using shading::kPbrClearcoat;
   using shading::kPbrEnv;
   using shading::kPbrPunctual;
   using shading::kPbrTextured;
-  static_assert((kPbrTextured | kPbrEnv | kPbrPunctual) == 7, "withFragPath takes three glTF shading features");
+  static_assert((kPbrTextured | kPbrEnv | kPbrPunctual) == 7 && kPbrClearcoat == 8,
+                "withFragPath takes three glTF shading features and the clear coat's instance");
   const Shade& k = fs.sh;
   switch (fragFamily(fs)) {
     case kFragGeneral: return go.template run<kFragGeneral, 0>();
     case kFragLit: return k.hasColor ? go.template run<kFragLit, 1>() : go.template run<kFragLit, 0>();
     case kFragPbr:
+      if (k.hasClearcoat) return go.template run<kFragPbr, kPbrClearcoat>();
       switch ((k.hasUV ? kPbrTextured : 0) | (k.p.useEnv ? kPbrEnv : 0) | (k.numPunctual > 0 ? kPbrPunctual : 0)) {
         case 0: return go.template run<kFragPbr, 0>();
         case 1: return go.template run<kFragPbr, 1>();

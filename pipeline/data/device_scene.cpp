@@ -201,10 +201,18 @@ DeviceScene DeviceScene::upload(const Scene& s) {
     g.emissive = m.emissive;
     g.flags = (m.unlit ? kMaterialUnlit : 0) | (m.doubleSided ? kMaterialDoubleSided : 0) |
               (m.alphaMode != AlphaMode::Blend ? kMaterialOpaque : 0) |  // MASK: opaque where the alpha test keeps it
-              int32_t(m.uv1Slots << kMaterialUv1Shift);
+              (m.hasClearcoat() ? kMaterialClearcoat : 0) | int32_t(m.uv1Slots << kMaterialUv1Shift);
     mats.push_back(g);
+    d.hasClearcoat = d.hasClearcoat || m.hasClearcoat();
   }
   d.materials = uploadVec("scene.materials", mats);
+  if (d.hasClearcoat) {
+    std::vector<ClearcoatGPU> coats;
+    for (const Material& m : s.materials)
+      coats.push_back(ClearcoatGPU{m.clearcoat, m.clearcoatRoughness, m.clearcoatNormalScale, m.clearcoatTexture,
+                                   m.clearcoatRoughnessTexture, m.clearcoatNormalTexture});
+    d.clearcoats = uploadVec("scene.clearcoats", coats);
+  }
   std::vector<PunctualGPU> lights;
   for (const PunctualLight& l : s.lights) {
     PunctualGPU g{};
@@ -286,7 +294,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
 
 size_t DeviceScene::bytes() const {
   return viewBytes(positions) + viewBytes(normals) + viewBytes(uvs) + viewBytes(uvs1) + viewBytes(colors) + viewBytes(tangents) + viewBytes(indices) +
-         viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) +
+         viewBytes(draws) + viewBytes(drawTriStart) + viewBytes(drawVertStart) + viewBytes(triDraw) + viewBytes(vertDraw) + viewBytes(materials) + viewBytes(clearcoats) +
          viewBytes(textures) + viewBytes(texels) + viewBytes(srgbToLinear) + viewBytes(unormToFloat) + viewBytes(lights) +
          viewBytes(srgbEncodePacked) + viewBytes(lines) + viewBytes(points) + viewBytes(skinJoints) + viewBytes(skinWeights) +
          viewBytes(joints) + viewBytes(jointNormals) + viewBytes(alphaDraws);

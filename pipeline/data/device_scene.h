@@ -29,6 +29,8 @@ struct DeviceScene {
   // empty otherwise. drawOf() takes either.
   DView<DrawIndex> triDraw, vertDraw;
   DView<MaterialGPU> materials;
+  DView<ClearcoatGPU> clearcoats;  // per material, uploaded only when some material has a clear coat
+  bool hasClearcoat = false;
   DView<TextureGPU> textures;
   DView<uint32_t> texels;  // all textures, sRGB RGBA8
   DView<float> srgbToLinear;  // 256-entry decode table

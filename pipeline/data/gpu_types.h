@@ -38,12 +38,22 @@ struct MaterialGPU {
   int32_t mrTexture, normalTexture, occlusionTexture, emissiveTexture;  // -1: none
   float metallic, roughness, normalScale, occlusionStrength;
   float3 emissive;   // linear, emissive strength applied
-  int32_t flags;     // kMaterialUnlit | kMaterialDoubleSided | kMaterialOpaque
+  int32_t flags;     // kMaterialUnlit | kMaterialDoubleSided | kMaterialOpaque | kMaterialClearcoat
 };
-constexpr int32_t kMaterialUnlit = 1, kMaterialDoubleSided = 2, kMaterialOpaque = 4;
+// kMaterialClearcoat: the material has a KHR_materials_clearcoat layer, its
+// ClearcoatGPU at the same index of DeviceScene::clearcoats.
+constexpr int32_t kMaterialUnlit = 1, kMaterialDoubleSided = 2, kMaterialOpaque = 4, kMaterialClearcoat = 8;
 // flags >> kMaterialUv1Shift: Material::uv1Slots, the texture slots
 // (TextureSlot) that sample the second coordinates (DeviceScene::uvs1).
-constexpr int32_t kMaterialUv1Shift = 3;
+constexpr int32_t kMaterialUv1Shift = 4;
+
+// A material's KHR_materials_clearcoat layer (host/scene/scene.h Material),
+// kept apart from MaterialGPU so that the shading of a scene without one
+// loads and holds none of it.
+struct ClearcoatGPU {
+  float factor, roughness, normalScale;
+  int32_t texture, roughnessTexture, normalTexture;  // -1: none
+};
 
 // A KHR_lights_punctual light in world space (host/scene/scene.h PunctualLight).
 struct PunctualGPU {

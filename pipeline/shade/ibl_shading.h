@@ -102,9 +102,10 @@ KOKKOS_INLINE_FUNCTION float3 iblGgxFresnel(float NdotV, float roughness, float3
 // (v towards the eye), roughness perceptual (the material's, before
 // squaring), occlusion the occlusion texel's value and its strength:
 // colour * (1 + strength (occlusion - 1)), on this light only.
-// rough: iblRough(e, roughness).
-KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3 v, float3 baseColor, float metallic,
-                                       const IblRough& rough, float occlusion, float occlusionStrength = 1.0f) {
+// rough: iblRough(e, roughness). iblLight: the same before the occlusion
+// (a clear coat mixes its own specular in there first, pbr_fragment.h).
+KOKKOS_INLINE_FUNCTION float3 iblLight(const EnvironmentGPU& e, float3 n, float3 v, float3 baseColor, float metallic,
+                                       const IblRough& rough) {
   const float roughness = rough.roughness;
   const float ndv = clamp01(dot(n, v));
   const float2 fab = iblBrdf(e, ndv, rough);
@@ -120,7 +121,11 @@ KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3
     dielectric = diffuse * (one - dielF) + specular * dielF;
   }
   if (metallic > 0.0f) metal = iblGgxFresnel(ndv, roughness, baseColor, fab) * specular;
-  const float3 color = dielectric * (1.0f - metallic) + metal * metallic;
+  return dielectric * (1.0f - metallic) + metal * metallic;
+}
+KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3 v, float3 baseColor, float metallic,
+                                       const IblRough& rough, float occlusion, float occlusionStrength = 1.0f) {
+  const float3 color = iblLight(e, n, v, baseColor, metallic, rough);
   return color * (1.0f + occlusionStrength * (occlusion - 1.0f));
 }
 KOKKOS_INLINE_FUNCTION float3 iblShade(const EnvironmentGPU& e, float3 n, float3 v, float3 baseColor, float metallic,

@@ -65,6 +65,31 @@ RAST_GPU_INLINE void Shade::materialTexels(const TriFrag& f, const MaterialGPU& 
   }
 }
 
+// The same loop over the base's slots and the clear coat's (all linear data).
+RAST_TEXELS_INLINE void Shade::coatTexels(const TriFrag& f, const MaterialGPU& m, const ClearcoatGPU& cc,
+                                          uint32_t on1, const UvSet& c0, const UvSet& c1,
+                                          float4 (&tx)[kCoatSlots]) const {
+  const bool emits = m.emissive.x > 0.0f || m.emissive.y > 0.0f || m.emissive.z > 0.0f;
+#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < kCoatSlots; ++k) {
+    const int32_t index = k == SlotBaseColor            ? m.texture
+                          : k == SlotMetalRough         ? m.mrTexture
+                          : k == SlotNormal             ? m.normalTexture
+                          : k == SlotOcclusion          ? m.occlusionTexture
+                          : k == SlotEmissive           ? (emits ? m.emissiveTexture : -1)
+                          : k == SlotClearcoat          ? cc.texture
+                          : k == SlotClearcoatRoughness ? cc.roughnessTexture
+                                                        : cc.normalTexture;
+    if (index < 0) continue;
+    const UvSet& c = k != SlotBaseColor && (on1 >> k & 1u) ? c1 : c0;
+    const bool srgb = k == SlotBaseColor || k == SlotEmissive;
+    const TextureGPU tex = k == SlotBaseColor ? f.tex : textures(index);
+    tx[k] = sampleTexture(tex, c.uv, DecodeTable{srgb ? lut.data() : unorm.data()}, c.dx, c.dy);
+  }
+}
+
 KOKKOS_INLINE_FUNCTION Shade::UvSet Shade::uvSet(float2 t0, float2 t1, float2 t2, const float b[3], const float bx[3],
                                                  const float by[3], bool derivatives) {
   UvSet c;
@@ -91,6 +116,13 @@ KOKKOS_INLINE_FUNCTION Shade::UvSet Shade::uvSet(float2 t0, float2 t1, float2 t2
 // A back face turns all three, as the Khronos renderer does.
 RAST_GPU_INLINE float3 Shade::normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
                                            float3 N, bool back, const UvSet& c, const float4& nt) const {
+  float3 T, B, Ng;
+  if (!tangentFrame(f, b0, b1, b2, N, back, c, T, B, Ng)) return Ng;
+  return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T, B, Ng);
+}
+
+RAST_GPU_INLINE bool Shade::tangentFrame(const TriFrag& f, float b0, float b1, float b2, float3 N, bool back,
+                                         const UvSet& c, float3& Tout, float3& B, float3& Ng) const {
   float3 T{0.0f, 0.0f, 0.0f};
   float w = 1.0f;
   if (hasTangent) {
@@ -118,11 +150,12 @@ RAST_GPU_INLINE float3 Shade::normalMapped(const TriFrag& f, const MaterialGPU& 
     w = 1.0f;
   }
   const float s = back ? -1.0f : 1.0f;
-  const float3 Ng = N * s;
-  if (!(dot(T, T) > 0.0f)) return Ng;
+  Ng = N * s;
+  if (!(dot(T, T) > 0.0f)) return false;
   T = normalize(T);
-  const float3 B = cross(N, T) * (w * s);
-  return pbr::perturbNormal(float3{nt.x, nt.y, nt.z}, m.normalScale, T * s, B, Ng);
+  B = cross(N, T) * (w * s);
+  Tout = T * s;
+  return true;
 }
 
 // The glTF shading's part of triangle f (prepared): its material, or the
@@ -136,7 +169,7 @@ RAST_GPU_INLINE PbrTri Shade::pbrTri(const TriFrag& f) const {
   m.metallic = m.roughness = m.normalScale = m.occlusionStrength = 1.0f;  // the spec's default material
   if (f.material >= 0) m = materials(f.material);
   t.textured = hasUV && (m.texture >= 0 || m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 ||
-                         m.emissiveTexture >= 0);
+                         m.emissiveTexture >= 0 || (m.flags & kMaterialClearcoat));
   // The material's coordinates: the first set, and the second where some
   // of its textures sample another set or transform (uv1Slots).
   t.on1 = hasUV1 ? uint32_t(m.flags) >> kMaterialUv1Shift : 0u;
@@ -151,17 +184,24 @@ RAST_GPU_INLINE PbrTri Shade::pbrTri(const TriFrag& f) const {
 // punctual lights (else --light, or a headlight when there is no environment
 // either), emission, and the environment's image-based light
 // (ibl_shading.h), or without one an ambient term; both scaled by the
-// occlusion texture. Linear light. kFeat: the scene's features
-// (PbrFeature) known at compile time, or kPbrAny.
+// occlusion texture; and a KHR_materials_clearcoat layer over all of it
+// (pbr::Coat). Linear light. kFeat: the scene's features (PbrFeature) known
+// at compile time, or kPbrAny.
 template <int kFeat>
 RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
                                               int32_t oy, float b0, float b1, float b2, float3 N,
                                               const float3& P) const {
   constexpr bool kAny = kFeat == kPbrAny;
-  const bool useEnv = kAny ? p.useEnv != 0 : (kFeat & kPbrEnv) != 0;
-  const bool anyPunctual = kAny ? numPunctual > 0 : (kFeat & kPbrPunctual) != 0;
+  // The clear coat's code: its instance and the general kernel (kPbrAny has every bit).
+  constexpr bool kCoat = (kFeat & kPbrClearcoat) != 0;
+  constexpr bool kRunTime = kAny || kCoat;  // the other features read at run time
+  const bool useEnv = kRunTime ? p.useEnv != 0 : (kFeat & kPbrEnv) != 0;
+  const bool anyPunctual = kRunTime ? numPunctual > 0 : (kFeat & kPbrPunctual) != 0;
   const MaterialGPU& m = t.m;
-  const bool textured = (kAny || (kFeat & kPbrTextured)) && t.textured;
+  const bool textured = (kRunTime || (kFeat & kPbrTextured)) && t.textured;
+  const bool coat = kCoat && (m.flags & kMaterialClearcoat);
+  ClearcoatGPU cc{0.0f, 0.0f, 1.0f, -1, -1, -1};
+  if (coat) cc = clearcoats(f.material);
   const uint32_t on1 = t.on1;
   UvSet c0, c1;
   if (textured) {
@@ -179,8 +219,11 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
     c0 = uvSet(f.uv[0], f.uv[1], f.uv[2], b, bx, by, derivatives);
     if (on1) c1 = uvSet(uvs1(f.s0), uvs1(f.s1), uvs1(f.s2), b, bx, by, derivatives);
   }
-  float4 tx[kTextureSlots] = {};
-  if (textured) materialTexels(f, m, on1, c0, c1, tx);
+  float4 tx[kCoat ? kCoatSlots : kTextureSlots] = {};
+  if (textured) {
+    if constexpr (kCoat) coatTexels(f, m, cc, on1, c0, c1, tx);
+    else materialTexels(f, m, on1, c0, c1, tx);
+  }
   float4 base = m.baseColor;
   if (textured && m.texture >= 0) base = base * tx[SlotBaseColor];
   if (hasColor) base = base * (f.col[0] * b0 + f.col[1] * b1 + f.col[2] * b2);
@@ -204,6 +247,26 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   // normal towards the viewer, as the specification says.
   const bool back = (dot(t.face, V) < 0.0f) != (f.mirrored != 0);
   const float3 Ng = back ? N * -1.0f : N;
+  // The coat (KHR_materials_clearcoat): factor x texture R, roughness x
+  // texture G, its own normal map or the geometry's normal (not the base's
+  // normal map), its Fresnel weight towards the viewer.
+  pbr::Coat cl;
+  if constexpr (kCoat) {
+    if (coat) {
+      cl.factor = cc.factor;
+      cl.roughness = cc.roughness;
+      if (textured && cc.texture >= 0) cl.factor = cl.factor * tx[SlotClearcoat].x;
+      if (textured && cc.roughnessTexture >= 0) cl.roughness = cl.roughness * tx[SlotClearcoatRoughness].y;
+      cl.roughness = clamp01(cl.roughness);
+      cl.n = Ng;
+      if (textured && cc.normalTexture >= 0) {
+        float3 T, B, G;
+        if (tangentFrame(f, b0, b1, b2, N, back, on1 >> SlotClearcoatNormal & 1u ? c1 : c0, T, B, G))
+          cl.n = pbr::coatNormal(tx[SlotClearcoatNormal], cc.normalScale, T, B, G);
+      }
+      cl.weight = cl.factor * pbr::coatFresnel(clamp01(dot(cl.n, V)));
+    }
+  }
   if (textured && m.normalTexture >= 0)
     N = normalMapped(f, m, b0, b1, b2, N, back, on1 >> SlotNormal & 1u ? c1 : c0, tx[SlotNormal]);
   else N = Ng;
@@ -219,22 +282,30 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   }
 
   float3 color{0.0f, 0.0f, 0.0f};
+  // Each light's part goes under the coat where there is one (pbr::coated).
   if (anyPunctual) {
     for (int k = 0; k < numPunctual; ++k) {
       float3 L;
       const float3 E = pbr::incidentLight(punctual(k), P, L);
-      color = color + pbr::shadeLight(s, N, V, L, E);
+      float3 c = pbr::shadeLight(s, N, V, L, E);
+      if constexpr (kCoat) c = coat ? pbr::coated(cl, c, V, L, E) : c;
+      color = color + c;
     }
   } else if (p.headlight) {
     // Scaled by pi: a white Lambertian surface facing it reflects what
     // the Lambert shading's headlight gives it. With an environment, that
     // lights a file without lights of its own instead.
     const float I = (1.0f - p.ambient) * pbr::kPi;
-    if (!useEnv) color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
+    if (!useEnv) {
+      color = pbr::shadeLight(s, N, V, V, float3{I, I, I});
+      if constexpr (kCoat) color = coat ? pbr::coated(cl, color, V, V, float3{I, I, I}) : color;
+    }
   } else {
     for (int k = 0; k < int(lights.extent(0)); ++k) {
       const float I = lights(k).intensity * pbr::kPi;
-      color = color + pbr::shadeLight(s, N, V, lights(k).direction, float3{I, I, I});
+      float3 c = pbr::shadeLight(s, N, V, lights(k).direction, float3{I, I, I});
+      if constexpr (kCoat) c = coat ? pbr::coated(cl, c, V, lights(k).direction, float3{I, I, I}) : c;
+      color = color + c;
     }
   }
   // Indirect light (the environment's, else an ambient term on the
@@ -244,11 +315,28 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
     // s.roughness is clamp01(m.roughness), what pbrTri found t.ibl for,
     // unless the metal/rough texture scaled it.
     const bool perTri = !kOnDevice && !(textured && m.mrTexture >= 0);
-    color = color + iblShade(p.env, N, V, s.base, s.metallic, perTri ? t.ibl : iblRough(p.env, s.roughness), ao);
+    bool coated = false;
+    if constexpr (kCoat) {
+      if (coat) {  // the coat's prefiltered radiance at its roughness, mixed in before the occlusion
+        const float3 base = iblLight(p.env, N, V, s.base, s.metallic, perTri ? t.ibl : iblRough(p.env, s.roughness));
+        const float3 ibl = pbr::mix(base, iblSpecular(p.env, cl.n, V, cl.roughness), cl.weight);
+        color = color + ibl * (1.0f + (ao - 1.0f));
+        coated = true;
+      }
+    }
+    if (!coated)
+      color = color + iblShade(p.env, N, V, s.base, s.metallic, perTri ? t.ibl : iblRough(p.env, s.roughness), ao);
   }
   else if (!anyPunctual)
     color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);
-  color = color + emissionAt(m, textured, tx[SlotEmissive]);
+  const float3 emission = emissionAt(m, textured, tx[SlotEmissive]);
+  if constexpr (kCoat) {
+    if (coat) {  // the coat dims the emission under it by its Fresnel weight, as the Sample Renderer does
+      color = color + emission * (1.0f - cl.weight);
+      return float4{color.x, color.y, color.z, alpha};
+    }
+  }
+  color = color + emission;
   return float4{color.x, color.y, color.z, alpha};
 }
 

@@ -10,6 +10,8 @@
 // term, and the metal and dielectric results mixed by `metallic`. Lights
 // follow the extension's recommended falloff: inverse square with a smooth
 // window at `range`, and the spot cone's squared linear ramp in cos(angle).
+// KHR_materials_clearcoat adds a second dielectric GGX lobe over all of it
+// (Coat).
 #pragma once
 
 #include "base/vec.h"
@@ -100,6 +102,42 @@ KOKKOS_INLINE_FUNCTION float3 shadeLight(const Surface& s, const float3& N, cons
     if (s.metallic > 0.0f) color = mix(dielectric, fresnelSchlick(s.base, 1.0f, VdotH) * specular, s.metallic);
   }
   return color;
+}
+
+// KHR_materials_clearcoat's layer at a fragment, as the Khronos Sample
+// Renderer draws it: a dielectric GGX lobe (f0 = ((1.5 - 1) / (1.5 + 1))^2 =
+// 0.04, f90 1) at the coat's normal n and perceptual roughness, over the
+// base's light: f = mix(f_base, f_coat, factor * Fc), Fc Schlick's Fresnel
+// at dot(n, V). weight = factor * Fc (0: no coat).
+struct Coat {
+  float factor = 0.0f, roughness = 0.0f, weight = 0.0f;
+  float3 n{0.0f, 0.0f, 1.0f};
+};
+
+KOKKOS_INLINE_FUNCTION float coatFresnel(float NdotV) {
+  const float x = clamp01(1.0f - NdotV), x2 = x * x;
+  return 0.04f + (1.0f - 0.04f) * (x2 * x2 * x);
+}
+
+// A light's part `base` (shadeLight) with the coat over it: the coat's GGX
+// specular for light E arriving along L, mixed in by the coat's weight.
+KOKKOS_INLINE_FUNCTION float3 coated(const Coat& c, const float3& base, const float3& V, const float3& L,
+                                     const float3& E) {
+  const float3 H = normalize(L + V);
+  const float NdotL = clamp01(dot(c.n, L)), NdotV = clamp01(dot(c.n, V)), NdotH = clamp01(dot(c.n, H));
+  const float a = c.roughness * c.roughness;
+  const float3 spec = E * (NdotL * visibilityGgx(NdotL, NdotV, a) * distributionGgx(NdotH, a));
+  return mix(base, spec, c.weight);
+}
+
+// The coat's normal from its normal map's texel in the frame (T, B, Ng):
+// TBN * normalize((2 rgb - 1) * (scale, scale, 1)), left unnormalised as the
+// Sample Renderer leaves it (the frame is orthonormal).
+KOKKOS_INLINE_FUNCTION float3 coatNormal(float4 texel, float scale, const float3& T, const float3& B,
+                                         const float3& Ng) {
+  float3 t{(2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale, 2.0f * texel.z - 1.0f};
+  t = normalize(t);
+  return T * t.x + B * t.y + Ng * t.z;
 }
 
 // A normal map's texel (linear RGB in [0, 1]) applied in the frame (T, B, Ng):

@@ -53,9 +53,13 @@ void launchPbrWith(const Shade& k, const Range& items) {
 }
 
 void launchPbr(const Shade& k, const Range& items) {
+  using shading::kPbrClearcoat;
   using shading::kPbrEnv;
   using shading::kPbrPunctual;
   using shading::kPbrTextured;
+  // A scene with a clear coat takes the one instance that draws it (the
+  // other features read at run time: see PbrFeature).
+  if (k.hasClearcoat) return launchPbrWith<kPbrClearcoat>(k, items);
   switch ((k.hasUV ? kPbrTextured : 0) | (k.p.useEnv ? kPbrEnv : 0) | (k.numPunctual > 0 ? kPbrPunctual : 0)) {
     case 0: return launchPbrWith<0>(k, items);
     case kPbrTextured: return launchPbrWith<kPbrTextured>(k, items);
@@ -137,6 +141,8 @@ shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParam
   k.hasUV1 = s.hasUV1 ? 1 : 0;
   k.hasTangent = s.hasTangents ? 1 : 0;
   k.materials = s.materials;
+  k.clearcoats = s.clearcoats;
+  k.hasClearcoat = s.hasClearcoat ? 1 : 0;
   k.textures = s.textures;
   k.texels = s.texels;
   k.lut = s.srgbToLinear;

@@ -24,7 +24,7 @@ out, support = sys.argv[1], sys.argv[2]
 sys.path.insert(0, support)
 import rastimg
 bad = 0
-for p in ["spheres", "normalmap", "emissive", "mask", "wrap", "transform", "lights"]:
+for p in ["spheres", "normalmap", "emissive", "mask", "wrap", "transform", "lights", "clearcoat"]:
     a = rastimg.read_pfm(f"{out}/cuda/{p}.pfm")[3]
     b = rastimg.read_pfm(f"{out}/openmp/{p}.pfm")[3]
     worst = max(abs(min(x, 1.0) - min(y, 1.0)) for x, y in zip(a, b)) if len(a) == len(b) else 1.0

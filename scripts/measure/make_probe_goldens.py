@@ -24,7 +24,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 KREF = os.path.normpath(os.path.join(ROOT, "..", "shared", "tools", "khronos-ref"))
-PROBES = ["spheres", "normalmap", "emissive", "mask", "wrap", "transform", "lights"]
+PROBES = ["spheres", "normalmap", "emissive", "mask", "wrap", "transform", "lights", "clearcoat"]
 sys.path.insert(0, os.path.join(ROOT, "tests", "support"))
 from probe_files import probe_file  # noqa: E402  (probe-transform's file gets its KHR_texture_transform)
 

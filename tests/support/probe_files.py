@@ -54,6 +54,11 @@ def materials(doc):
     return doc.get("materials", [])
 
 
+def coats(doc):
+    return [m["extensions"]["KHR_materials_clearcoat"] for m in materials(doc)
+            if "KHR_materials_clearcoat" in m.get("extensions", {})]
+
+
 def lights(doc):
     return doc["extensions"]["KHR_lights_punctual"]["lights"]
 
@@ -102,6 +107,11 @@ CONTROLS = {
                                              for m in materials(d)]),
         ("texture rotation", lambda d: [m["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]
                                         ["KHR_texture_transform"].pop("rotation", None) for m in materials(d)]),
+    ],
+    "clearcoat": [
+        ("KHR_materials_clearcoat", lambda d: drop(materials(d), "extensions")),
+        ("clearcoatTexture (coat 1 everywhere)", lambda d: drop(coats(d), "clearcoatTexture")),
+        ("clearcoatNormalTexture", lambda d: drop(coats(d), "clearcoatNormalTexture")),
     ],
     "lights": [
         ("directional light (off)", lambda d: [l.update(intensity=0.0) for l in lights(d) if l["type"] == "directional"]),

@@ -70,9 +70,9 @@ const std::map<std::string, Expect>& assimpTable() {
       // KHR_materials_pbrSpecularGlossiness is only used, not required: the
       // metallic-roughness fallback is drawn.
       {"BoxTextured-glTF-pbrSpecularGlossiness/BoxTextured.gltf", loads(12, 1, 1, -h, h)},
-      // 5 of its 6 images are used by core material slots (base colour, normal maps, the
-      // emissive labels); the clear-coat extension's own textures are not loaded.
-      {"ClearCoat-glTF/ClearCoatTest.gltf", loads(37116, 27, 5, {-7.3578, -6.25, -0.06}, {3.1, 6.85452, 1.05})},
+      // All 6 of its images: the core material slots' (base colour, normal maps, the
+      // emissive labels) and KHR_materials_clearcoat's clearcoatTexture (PartialCoating).
+      {"ClearCoat-glTF/ClearCoatTest.gltf", loads(37116, 27, 6, {-7.3578, -6.25, -0.06}, {3.1, 6.85452, 1.05})},
       // Vertex counts that are not multiples of 3 lose the incomplete triangle
       // (12 + 11 + 12 + 11; the four LINES meshes add segments and draws), as
       // assimp does. Its unused accessors 2-4 point past the buffer: only data
