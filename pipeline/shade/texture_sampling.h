@@ -151,7 +151,8 @@ KOKKOS_INLINE_FUNCTION float4 sampleSamplerAt(const TextureGPU& t, const Texels&
   if (m == kNearest || m == 9729 || t.levels <= 1) return sample(t);
   const float maxLod = float(t.levels - 1);
   const float l = lod > maxLod ? maxLod : lod;
-  if (m == kNearestMipNearest || m == kLinearMipNearest) return sample(mipLevel(t, int(l + 0.5f)));
+  // The nearest level: ceil(lambda + 1/2) - 1 (OpenGL 4.6, section 8.14.3), level 0 up to lambda = 1/2.
+  if (m == kNearestMipNearest || m == kLinearMipNearest) return sample(mipLevel(t, int(::ceilf(l + 0.5f)) - 1));
   const int k = int(::floorf(l));
   const float f = l - float(k);
   const TextureGPU lk = mipLevel(t, k);
@@ -160,16 +161,38 @@ KOKKOS_INLINE_FUNCTION float4 sampleSamplerAt(const TextureGPU& t, const Texels&
   return a * (1.0f - f) + sample(nextMip(lk)) * f;
 }
 
+// The anisotropic footprint of EXT_texture_filter_anisotropic (core in OpenGL
+// 4.6, section 8.14): rx and ry the squared lengths, in texels, of the
+// footprint's sides (the coordinates' screen derivatives), Pmax and Pmin the
+// longer and the shorter: N = min(ceil(Pmax / Pmin), maxAniso) taps along the
+// longer side, at level of detail lambda' = log2(Pmax / N). lambda', not the
+// isotropic log2(Pmax), then tells magnification (lambda' <= 0) from
+// minification. A degenerate shorter side takes maxAniso taps.
+struct AnisoFootprint {
+  int32_t taps;
+  float lod;
+};
+
+KOKKOS_INLINE_FUNCTION AnisoFootprint anisoFootprint(float rx, float ry, int32_t maxAniso) {
+  const float rmax2 = rx > ry ? rx : ry, rmin2 = rx > ry ? ry : rx;
+  const float ratio = rmin2 > 0.0f ? ::sqrtf(rmax2 / rmin2) : float(maxAniso);
+  const int32_t n = ratio >= float(maxAniso) ? maxAniso : int32_t(::ceilf(ratio));
+  return {n, 0.5f * ::log2f(rmax2) - ::log2f(float(n))};
+}
+
 // A glTF sampler's filtering (TextureGPU::magFilter, minFilter, GL enums) for
 // a pixel whose texture coordinates change by (dx, dy) per pixel: the
 // magnification filter where the footprint is under a texel, else the
 // minification filter with its mipmap rule when the texture has levels
-// (nearest level: the rounded level of detail; linear: the two levels around
-// it). maxAniso > 1: anisotropic filtering where the sampler filters linearly
-// between levels (as the Khronos Sample Renderer asks WebGL for, 16x): up to
-// maxAniso taps along the footprint's longer axis, each at the level of detail
-// of its length divided by the taps (the usual approximation of the
-// footprint, EXT_texture_filter_anisotropic's), averaged.
+// (nearest level: ceil(lambda + 1/2) - 1; linear: the two levels around
+// lambda), lambda = log2 of the footprint's longer side in texels.
+// maxAniso > 1: anisotropic filtering where the sampler filters linearly
+// between levels (as the Khronos Sample Renderer asks WebGL for, 16x):
+// anisoFootprint's taps, spread evenly along the footprint's longer side,
+// averaged; where lambda' <= 0 they are magnified, and take the
+// magnification filter (LINEAR: anisotropy is asked only with it) at level 0.
+// Where the whole footprint is under a texel (lambda <= 0) one tap stands for
+// the taps (the spec's taps would all lie within about one texel of it).
 template <class Texels, class Lut>
 KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& texels, const Lut& lut, float u, float v,
                                             float2 dx, float2 dy, int32_t maxAniso) {
@@ -181,18 +204,17 @@ KOKKOS_INLINE_FUNCTION float4 sampleSampler(const TextureGPU& t, const Texels& t
   if (!(lod > 0.0f)) return t.magFilter == kNearest ? sampleNearest(t, texels, lut, u, v) : sampleBilinear(t, texels, lut, u, v);
   const int32_t m0 = t.minFilter;
   if (maxAniso > 1 && t.levels > 1 && t.magFilter != kNearest && (m0 == kNearestMipLinear || m0 == 9987)) {
-    const float rmin2 = rx > ry ? ry : rx;
-    const float ratio = rmin2 > 0.0f ? ::sqrtf(rho2 / rmin2) : float(maxAniso);
-    const int32_t n = ratio >= float(maxAniso) ? maxAniso : int32_t(::ceilf(ratio));
-    if (n > 1) {
+    const AnisoFootprint f = anisoFootprint(rx, ry, maxAniso);
+    if (f.taps > 1) {
       const float2 axis = rx > ry ? dx : dy;  // the longer side, in uv per pixel
-      const float lodN = lod - ::log2f(float(n));
+      const bool magnified = !(f.lod > 0.0f);
       float4 acc{0.0f, 0.0f, 0.0f, 0.0f};
-      for (int32_t i = 0; i < n; ++i) {
-        const float s = (float(i) + 0.5f) / float(n) - 0.5f;
-        acc = acc + sampleSamplerAt(t, texels, lut, u + axis.x * s, v + axis.y * s, lodN > 0.0f ? lodN : 0.0f);
+      for (int32_t i = 0; i < f.taps; ++i) {
+        const float s = (float(i) + 0.5f) / float(f.taps) - 0.5f;
+        const float tu = u + axis.x * s, tv = v + axis.y * s;
+        acc = acc + (magnified ? sampleBilinear(t, texels, lut, tu, tv) : sampleSamplerAt(t, texels, lut, tu, tv, f.lod));
       }
-      return acc * (1.0f / float(n));
+      return acc * (1.0f / float(f.taps));
     }
   }
   return sampleSamplerAt(t, texels, lut, u, v, lod);

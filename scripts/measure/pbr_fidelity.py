@@ -11,7 +11,17 @@ rendered by rast from its own auto-framed camera and by
 models (its start-up filters an environment: minutes on 2 cores).
 
   scripts/measure/pbr_fidelity.py --rast build/openmp/rast --out /tmp/fid \\
-      [--size 480x360] [--env FILE.hdr --tonemap pbr-neutral] [--extra-flags "..."] MODEL...
+      [--size 480x360] [--env FILE.hdr --tonemap pbr-neutral] [--extra-flags "..."]
+      [--samplers nomip|mipnear] MODEL...
+
+--samplers changes the copies' samplers, both renderers drawing the same
+copy (docs/gltf-support.md, "Mipmaps and anisotropy"): `nomip` sets every
+minification filter to the magnification filter (no mipmaps, and so no
+anisotropic filtering on either side: the Sample Renderer asks WebGL for 16x
+only with *_MIPMAP_LINEAR, rast likewise), `mipnear` to LINEAR_MIPMAP_NEAREST
+(NEAREST_MIPMAP_NEAREST under a NEAREST magnification: the nearest level,
+no anisotropy); the rows are named MODEL_nomip, MODEL_mipnear. The copies
+live in OUT only.
 
 Writes OUT/<name>.rast.png, OUT/<name>.ref.png and OUT/fidelity.json, and
 prints a Markdown table. The reference encodes its output with a 2.2 power
@@ -71,11 +81,30 @@ def quat_from_minus_z(d):
     return [c[0] / n, c[1] / n, c[2] / n, w / n]
 
 
-def with_light(src, dst_dir, direction, intensity, add=True):
+def change_samplers(doc, kind):
+    """--samplers: every texture's sampler (one added where a texture has none)
+    without mipmaps (`nomip`) or with the nearest level (`mipnear`)."""
+    samplers = doc.setdefault("samplers", [])
+    for t in doc.get("textures", []):
+        if "sampler" not in t:
+            samplers.append({})
+            t["sampler"] = len(samplers) - 1
+    for s in samplers:
+        nearest = s.get("magFilter", 9729) == 9728
+        if kind == "nomip":
+            s["minFilter"] = 9728 if nearest else 9729  # NEAREST, LINEAR
+        else:
+            s["minFilter"] = 9984 if nearest else 9985  # NEAREST_MIPMAP_NEAREST, LINEAR_MIPMAP_NEAREST
+
+
+def with_light(src, dst_dir, direction, intensity, add=True, samplers=None):
     """A copy of `src` in dst_dir that has a directional light if it had none (and `add`)."""
     doc, binary = read_gltf(src)
     has = bool(doc.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights")) or not add
     name = os.path.splitext(os.path.basename(src))[0]
+    if samplers:
+        change_samplers(doc, samplers)
+        name += "_" + samplers
     if not has:
         n = math.sqrt(sum(x * x for x in direction))
         d = [x / n for x in direction]
@@ -143,13 +172,14 @@ def main():
     ap.add_argument("--extra-flags", default="", help="more rast render flags")
     ap.add_argument("--skip-ref", action="store_true", help="reuse OUT/*.ref.png")
     ap.add_argument("--no-added-light", action="store_true", help="add no light to files without any (with --env)")
+    ap.add_argument("--samplers", choices=["nomip", "mipnear"], help="change every sampler of the copies (above)")
     ap.add_argument("models", nargs="+")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     direction = [float(x) for x in a.light.split(",")]
     jobs, rows = [], []
     for m in a.models:
-        name, lit, added = with_light(m, a.out, direction, a.intensity, not a.no_added_light)
+        name, lit, added = with_light(m, a.out, direction, a.intensity, not a.no_added_light, a.samplers)
         cam = camera_flags(a.rast, lit, a.size, a.out)
         rast_png = os.path.join(a.out, name + ".rast.png")
         ref_png = os.path.join(a.out, name + ".ref.png")

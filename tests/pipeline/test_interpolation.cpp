@@ -160,3 +160,90 @@ TEST_CASE("sRGB decode and encode round-trip every byte", "[texture]") {
   CHECK(enc(std::nanf("")) == 0);
   CHECK(lut(128) == Approx(0.2158605).epsilon(1e-5));
 }
+
+namespace {
+
+// An 8x8 texture (CLAMP_TO_EDGE) with its three further levels, each level a
+// grey ramp along x of its own slope, so that every level and every texel
+// rule gives another value: level 0 texel x = 30 x, level 1 = 5 + 50 x,
+// level 2 = 100 + 50 x, level 3 = 128.
+struct MipRamp {
+  std::vector<uint32_t> texels;
+  MipRamp() {
+    const int slope[4] = {30, 50, 50, 0}, base[4] = {0, 5, 100, 128};
+    for (int l = 0, n = 8; l < 4; ++l, n /= 2)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) texels.push_back(grey(base[l] + slope[l] * x));
+  }
+  TextureGPU texture(int32_t minFilter) const { return {0, 8, 8, WrapClamp, WrapClamp, 4, 9729, minFilter}; }
+};
+
+}  // namespace
+
+TEST_CASE("anisotropic filtering follows the GL footprint and level of detail", "[texture][aniso]") {
+  // EXT_texture_filter_anisotropic (core in OpenGL 4.6, section 8.14): Pmax and
+  // Pmin the lengths in texels of the footprint's longer and shorter sides,
+  // N = min(ceil(Pmax / Pmin), maxAniso) taps, lambda' = log2(Pmax / N).
+  auto fp = [](float px, float py, int32_t maxAniso) { return anisoFootprint(px * px, py * py, maxAniso); };
+  CHECK(fp(8, 1, 16).taps == 8);
+  CHECK(fp(8, 1, 16).lod == Approx(0.0).margin(1e-6));
+  CHECK(fp(8, 3, 16).taps == 3);
+  CHECK(fp(8, 3, 16).lod == Approx(std::log2(8.0 / 3.0)).margin(1e-5));
+  CHECK(fp(8, 7.9f, 16).taps == 2);  // ceil: a footprint barely longer than wide takes 2 taps, a level finer
+  CHECK(fp(8, 7.9f, 16).lod == Approx(2.0).margin(1e-5));
+  CHECK(fp(5, 5, 16).taps == 1);
+  CHECK(fp(5, 5, 16).lod == Approx(std::log2(5.0)).margin(1e-5));
+  CHECK(fp(64, 1, 16).taps == 16);  // the ratio clamped to maxAniso
+  CHECK(fp(64, 1, 16).lod == Approx(2.0).margin(1e-5));
+  CHECK(fp(1, 64, 16).taps == 16);  // either side
+  CHECK(fp(64, 1, 4).taps == 4);
+  CHECK(fp(64, 1, 4).lod == Approx(4.0).margin(1e-5));
+  CHECK(fp(4, 0, 16).taps == 16);  // a degenerate side: the most taps
+  // The isotropic level of detail: log2 of the longer side's length (not of its components).
+  CHECK(textureLod(3.0f / 8, 4.0f / 8, 0.0f, 1.0f / 8, 8, 8) == Approx(std::log2(5.0)).margin(1e-5));
+  CHECK(textureLod(0.0f, 1.0f / 8, 2.0f / 8, 0.0f, 8, 8) == Approx(1.0).margin(1e-6));
+
+  const MipRamp ramp;
+  const HostTexels T{&ramp.texels};
+  const IdentityLut L;
+  auto g = [](rast::float4 c) { return double(c.x) * 255.0; };
+  const float u = 3.76f / 8, v = 0.4f;
+  auto tapsMean = [&](auto sampleAt, float2 axis, int n) {
+    double acc = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const float s = (float(i) + 0.5f) / float(n) - 0.5f;
+      acc += g(sampleAt(u + axis.x * s, v + axis.y * s));
+    }
+    return acc / n;
+  };
+
+  SECTION("magnified by lambda': every tap takes the magnification filter at level 0") {
+    // Pmax = 4 texels, Pmin = 0.5: 8 taps at lambda' = -1. Minified by the
+    // isotropic lambda = 2, but magnified by lambda': the sampler's LINEAR
+    // magnification, not NEAREST_MIPMAP_LINEAR's nearest texel.
+    const TextureGPU t = ramp.texture(9986);
+    const float2 dx{4.0f / 8, 0.0f}, dy{0.0f, 0.5f / 8};
+    const double linear = tapsMean([&](float a, float b) { return sampleBilinear(t, T, L, a, b); }, dx, 8);
+    const double nearest = tapsMean([&](float a, float b) { return sampleNearest(t, T, L, a, b); }, dx, 8);
+    CHECK(linear == Approx(30.0 * (3.76 - 0.5)).margin(1e-3));  // the ramp at the centre
+    CHECK(std::fabs(linear - nearest) > 5.0);                   // the two rules differ here
+    CHECK(g(sampleSampler(t, T, L, u, v, dx, dy, 16)) == Approx(linear).margin(1e-3));
+  }
+  SECTION("minified: the taps at lambda' along the longer side") {
+    // Pmax = 8 texels (along y this time), Pmin = 2: 4 taps at level 1 exactly.
+    const TextureGPU t = ramp.texture(9987);
+    const float2 dx{2.0f / 8, 0.0f}, dy{0.0f, 8.0f / 8};
+    const TextureGPU l1 = mipLevel(t, 1);
+    const double expect = tapsMean([&](float a, float b) { return sampleBilinear(l1, T, L, a, b); }, dy, 4);
+    CHECK(g(sampleSampler(t, T, L, u, v, dx, dy, 16)) == Approx(expect).margin(1e-3));
+    // Without anisotropy: one tap at lambda = log2(8) = 3, the last level.
+    CHECK(g(sampleSampler(t, T, L, u, v, dx, dy, 1)) == Approx(128.0).margin(1e-3));
+  }
+  SECTION("NEAREST_MIPMAP_NEAREST picks level ceil(lambda + 1/2) - 1") {
+    const TextureGPU t = ramp.texture(9984);
+    // lambda = 0.5 exactly (a side of sqrt(2) texels): level 0, whose nearest texel is x = 3.
+    CHECK(g(sampleSampler(t, T, L, u, v, float2{1.0f / 8, 1.0f / 8}, float2{0.0f, 0.0f}, 1)) == Approx(90.0));
+    // lambda = log2(1.5) = 0.58: level 1, texel x = 1 (5 + 50).
+    CHECK(g(sampleSampler(t, T, L, u, v, float2{1.5f / 8, 0.0f}, float2{0.0f, 0.0f}, 1)) == Approx(55.0));
+  }
+}
