@@ -136,6 +136,13 @@ void Renderer::checkFrameBudget(const RenderSettings& rs) const {
 }
 
 void Renderer::prepare(const RenderSettings& rs) {
+  // A split (sort-last) composites opaque keys only: each part would blend
+  // its own share of the BLEND triangles over a depth that holds only the
+  // pixels it owns, a wrong image. Refused, on every part (the split agrees).
+  if (split_ && scene_.hasBlend)
+    throw Error("alphaMode BLEND is not supported under a sort-last split (--distribute) yet: this part of the "
+                "scene draws BLEND triangles, which the ranks would composite wrongly; render it in one process "
+                "(docs/transparency.md)");
   if (rs.width < 1 || rs.height < 1 || rs.width > kMaxFramebufferSide || rs.height > kMaxFramebufferSide)
     throw Error("image size " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " is outside 1.." +
                 std::to_string(kMaxFramebufferSide) + " per side");
