@@ -56,8 +56,9 @@ inline Doc square(const json& material, const json* light = nullptr, const json&
 }
 
 // The square seen from `eye` towards the origin under `--shading pbr`, the
-// file's lights alone (no environment: the closed forms), nearest texels.
-inline test::Frame axisFrame(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) {
+// file's lights alone (no environment: the closed forms), nearest texels
+// (or `filter`).
+inline test::Frame axisFrame(const Scene& s, const glm::dvec3& eye = {0, 0, 3}, TexFilter filter = TexFilter::Nearest) {
   Camera cam;
   cam.eye = eye;
   cam.target = {0, 0, 0};
@@ -65,7 +66,7 @@ inline test::Frame axisFrame(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) 
   rs.width = rs.height = kSize;
   rs.shading = ShadingMode::Pbr;
   rs.environment = "none";
-  rs.filter = TexFilter::Nearest;
+  rs.filter = filter;
   return test::renderFrame(s, cam, rs);
 }
 

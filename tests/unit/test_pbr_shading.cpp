@@ -7,7 +7,8 @@
 // emission and its strength, unlit, the lights' falloff, range window and
 // spot cone, single- and double-sided faces, normal maps and their tangent
 // frame (the file's TANGENT, its handedness, a mirroring node, generated),
-// each texture's own texCoord set and transform.
+// each texture's own texCoord set and transform, and the mipmaps of colour
+// (averaged in linear light) and data textures (averaged as stored).
 #include <catch2/catch.hpp>
 
 #include "host/image/image_io.h"
@@ -157,6 +158,39 @@ TEST_CASE("pbr: metallicRoughness and normal textures", "[pbr]") {
   // scale 0 flattens any map back to the surface normal.
   const json flatten = {{"normalTexture", {{"index", 0}, {"scale", 0.0}}}};
   near(centre(loadDoc(textured(flatten, "tilt.png", white), d, "z")).x, brdfAxis(1, 0, 0.5, 1));
+}
+
+TEST_CASE("pbr: mipmaps average colour textures in linear light and data textures as stored", "[pbr]") {
+  TempDir d;
+  const json kNode = {{"translation", {0, 0, 5}}};
+  // Checkers of one texel, 256 wide, about ten texels a pixel on the square:
+  // the glTF samplers' filter (LINEAR_MIPMAP_LINEAR) reads levels 3 and 4,
+  // where the checks have become their average.
+  const int n = 256;
+  std::vector<uint32_t> metal(size_t(n) * n), bw(size_t(n) * n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const bool on = (x + y) & 1;
+      metal[size_t(y) * n + x] = 0xff00ff00u | (on ? 0x00ff0000u : 0u);  // G 255: roughness 1; B 0 or 255: metal
+      bw[size_t(y) * n + x] = on ? 0xffffffffu : 0xff000000u;
+    }
+  writePng(d.file("metal.png"), n, n, metal);
+  writePng(d.file("bw.png"), n, n, bw);
+  auto render = [&](const char* slot, const char* image, const json& base, const char* name) {
+    json m = base;
+    m["pbrMetallicRoughness"][slot] = {{"index", 0}};
+    Doc doc = square(m, &kSun, kNode, true);
+    doc.j["textures"] = json::array({{{"source", 0}}});
+    doc.j["images"] = json::array({{{"uri", image}}});
+    return centreLinear(axisFrame(loadDoc(doc, d, name), {0, 0, 3}, TexFilter::Auto)).x;
+  };
+  // Data (metallicRoughness, linear): metal 0 and 1 average to the byte 128,
+  // not to sRGB's 188 (0.74), which averaging decoded values would give.
+  near(render("metallicRoughnessTexture", "metal.png", pbrMaterial(1, 1, 1, 1, 1), "data"),
+       brdfAxis(1, 128.0 / 255.0, 1, 1));
+  // Colour (base colour, sRGB): black and white average to half the light (the byte 188).
+  near(render("baseColorTexture", "bw.png", pbrMaterial(1, 1, 1, 0, 1), "colour"),
+       brdfAxis(srgbDecode(188.0 / 255.0), 0, 1, 1));
 }
 
 TEST_CASE("pbr: normal maps take the file's TANGENT and its handedness, else generated tangents", "[pbr]") {
