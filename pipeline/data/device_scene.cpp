@@ -120,6 +120,25 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.hasUV = usesTexture && !s.uvs.empty();
   d.hasColor = !s.colors.empty();
   d.hasTextures = usesTexture;
+  // Which textures are data (normal, metal/rough, occlusion, coat maps) and
+  // never colour (base colour, emission): their mipmaps average the stored
+  // values, as the specification's linear textures ask, not the sRGB-decoded ones.
+  d.dataTextures_.assign(s.textures.size(), 0);
+  {
+    std::vector<uint8_t> colour(s.textures.size(), 0);
+    auto mark = [&](std::vector<uint8_t>& v, int32_t t) {
+      if (t >= 0 && size_t(t) < v.size()) v[size_t(t)] = 1;
+    };
+    for (const Material& m : s.materials) {
+      mark(colour, m.texture);
+      mark(colour, m.emissiveTexture);
+      for (int32_t t : {m.metallicRoughnessTexture, m.normalTexture, m.occlusionTexture, m.clearcoatTexture,
+                        m.clearcoatRoughnessTexture, m.clearcoatNormalTexture})
+        mark(d.dataTextures_, t);
+    }
+    for (size_t k = 0; k < colour.size(); ++k)
+      if (colour[k]) d.dataTextures_[k] = 0;  // both: the colour's pyramid (docs/gltf-support.md)
+  }
   if (d.hasUV) d.uvs = uploadVec("scene.uvs", s.uvs);
   if (d.hasColor) d.colors = uploadVec("scene.colors", s.colors);
   bool usesUv1 = false;
@@ -242,8 +261,8 @@ DeviceScene DeviceScene::upload(const Scene& s) {
 namespace {
 
 // The next level: each texel the average of its (up to) 2x2 parents, colour in
-// linear light, alpha as stored.
-std::vector<uint32_t> halve(const std::vector<uint32_t>& src, int w, int h, int& nw, int& nh) {
+// linear light, alpha as stored; a data texture's channels all as stored.
+std::vector<uint32_t> halve(const std::vector<uint32_t>& src, int w, int h, int& nw, int& nh, bool data) {
   nw = w > 1 ? w / 2 : 1;
   nh = h > 1 ? h / 2 : 1;
   std::vector<uint32_t> out(size_t(nw) * nh);
@@ -255,12 +274,15 @@ std::vector<uint32_t> halve(const std::vector<uint32_t>& src, int w, int h, int&
         for (int dx = 0; dx < 2; ++dx) {
           const int sx = std::min(2 * x + dx, w - 1), sy = std::min(2 * y + dy, h - 1);
           const uint32_t c = src[size_t(sy) * w + sx];
-          for (int k = 0; k < 3; ++k) acc[k] += srgbDecode(((c >> (8 * k)) & 0xff) / 255.0);
+          for (int k = 0; k < 3; ++k) {
+            const double v = ((c >> (8 * k)) & 0xff) / 255.0;
+            acc[k] += data ? v : srgbDecode(v);
+          }
           acc[3] += (c >> 24) / 255.0;
           ++n;
         }
-      out[size_t(y) * nw + x] = srgbEncodeByte(acc[0] / n) | srgbEncodeByte(acc[1] / n) << 8 | srgbEncodeByte(acc[2] / n) << 16 |
-                                uint32_t(acc[3] / n * 255.0 + 0.5) << 24;
+      auto byte = [&](int k) { return data ? uint32_t(acc[k] / n * 255.0 + 0.5) : srgbEncodeByte(acc[k] / n); };
+      out[size_t(y) * nw + x] = byte(0) | byte(1) << 8 | byte(2) << 16 | uint32_t(acc[3] / n * 255.0 + 0.5) << 24;
     }
   return out;
 }
@@ -270,7 +292,9 @@ std::vector<uint32_t> halve(const std::vector<uint32_t>& src, int w, int h, int&
 void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps) {
   std::vector<TextureGPU> tex;
   std::vector<uint32_t> texels;
-  for (const Texture& t : list) {
+  for (size_t i = 0; i < list.size(); ++i) {
+    const Texture& t = list[i];
+    const bool data = i < dataTextures_.size() && dataTextures_[i];
     TextureGPU g{uint32_t(texels.size()), t.width, t.height, t.wrapS, t.wrapT, 1, t.magFilter, t.minFilter};
     texels.insert(texels.end(), t.rgba.begin(), t.rgba.end());
     if (mipmaps) {
@@ -278,7 +302,7 @@ void DeviceScene::uploadTextures(const std::vector<Texture>& list, bool mipmaps)
       int w = t.width, h = t.height;
       while (w > 1 || h > 1) {
         int nw, nh;
-        level = halve(level, w, h, nw, nh);
+        level = halve(level, w, h, nw, nh, data);
         texels.insert(texels.end(), level.begin(), level.end());
         w = nw;
         h = nh;

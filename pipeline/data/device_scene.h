@@ -72,9 +72,12 @@ struct DeviceScene {
   void uploadLinesAndPoints(const Scene& scene);  // core/device_lines.cpp
   void uploadAlphaDraws(const Scene& scene);      // device_alpha.cpp
   // (Re)uploads the textures, with full mipmap pyramids when asked (built on
-  // the host with sRGB-correct 2x2 averaging). Trilinear filtering needs them;
-  // other filters do not pay for them.
+  // the host with 2x2 averaging: colour in linear light, data textures'
+  // stored values). Trilinear filtering needs them; other filters do not pay for them.
   void uploadTextures(const std::vector<Texture>& textures, bool mipmaps);
+  // Per texture: 1 when materials sample it only as data (normal,
+  // metal/rough, occlusion, coat maps), whose levels average the stored values.
+  std::vector<uint8_t> dataTextures_;
   bool hasMipmaps = false;
   size_t bytes() const;
   std::vector<DrawGPU> uploadedDraws_;  // the draws as uploaded: updatePose keeps their ranges and skins

@@ -12,7 +12,7 @@ models (its start-up filters an environment: minutes on 2 cores).
 
   scripts/measure/pbr_fidelity.py --rast build/openmp/rast --out /tmp/fid \\
       [--size 480x360] [--env FILE.hdr --tonemap pbr-neutral] [--extra-flags "..."]
-      [--samplers nomip|mipnear] MODEL...
+      [--samplers nomip|mipnear] [--by-material [--group LABEL=REGEX]... [--self-shift PX]] MODEL...
 
 --samplers changes the copies' samplers, both renderers drawing the same
 copy (docs/gltf-support.md, "Mipmaps and anisotropy"): `nomip` sets every
@@ -22,6 +22,16 @@ only with *_MIPMAP_LINEAR, rast likewise), `mipnear` to LINEAR_MIPMAP_NEAREST
 (NEAREST_MIPMAP_NEAREST under a NEAREST magnification: the nearest level,
 no anisotropy); the rows are named MODEL_nomip, MODEL_mipnear. The copies
 live in OUT only.
+
+--by-material adds, per model, where the disagreement lies: rast draws a
+material-id image (every material unlit in a colour of its own, opaque) from
+the same camera, and the `gamma 2.2` comparison's interior pixels are split by
+material (pixels, beyond 3 and 8/255, mean and signed mean difference per
+channel); `--group LABEL=REGEX` adds a row for the materials whose name
+matches. `--self-shift PX` compares rast with itself instead of the reference
+(no reference is run), its camera moved sideways by PX pixels: how much a
+pixel depends on where exactly it samples the surface (docs/gltf-support.md,
+"ClearCoatTest, part by part").
 
 Writes OUT/<name>.rast.png, OUT/<name>.ref.png and OUT/fidelity.json, and
 prints a Markdown table. The reference encodes its output with a 2.2 power
@@ -34,6 +44,7 @@ import argparse
 import json
 import math
 import os
+import re
 import shutil
 import struct
 import subprocess
@@ -160,6 +171,113 @@ def camera_flags(rast, scene, size, out_dir):
     raise SystemExit(f"pbr_fidelity: no camera line from rast for {scene}: {r.stderr.strip()}")
 
 
+def erode(m):
+    """The pixels whose four neighbours are in m too (fidelity.py's interior)."""
+    e = m.copy()
+    e[1:, :] &= m[:-1, :]
+    e[:-1, :] &= m[1:, :]
+    e[:, 1:] &= m[:, :-1]
+    e[:, :-1] &= m[:, 1:]
+    return e
+
+
+def material_ids(rast, model, out, cam, size):
+    """--by-material: per pixel, the index of the material drawn there (-1: none), and the names."""
+    import numpy as np
+    doc, binary = read_gltf(model)
+    mats = doc.get("materials", [])
+    if len(mats) > 250:
+        raise SystemExit("pbr_fidelity: --by-material takes at most 250 materials")
+    for i, m in enumerate(mats):
+        mats[i] = {"name": m.get("name", str(i)), "doubleSided": m.get("doubleSided", False),
+                   "pbrMetallicRoughness": {"baseColorFactor": [(i + 1) / 255.0, 0, 0, 1]},
+                   "extensions": {"KHR_materials_unlit": {}}}
+    used = doc.setdefault("extensionsUsed", [])
+    if "KHR_materials_unlit" not in used:
+        used.append("KHR_materials_unlit")
+    if binary is not None:
+        path = os.path.join(out, "material_ids.glb")
+        write_glb(path, doc, binary)
+    else:
+        folder = os.path.join(out, "material_ids_src")
+        if os.path.exists(folder):
+            shutil.rmtree(folder)
+        shutil.copytree(os.path.dirname(os.path.abspath(model)), folder)
+        path = os.path.join(folder, "material_ids.gltf")
+        json.dump(doc, open(path, "w"))
+    pfm = os.path.join(out, "material_ids.pfm")
+    subprocess.run([rast, "render", path, "--size", size, "-o", pfm, "--shading", "pbr", "--aa", "none",
+                    "--tonemap", "none", "--env", "none"] + cam, check=True, capture_output=True)
+    return np.rint(read_pfm(pfm)[..., 0] * 255).astype(int) - 1, [m["name"] for m in mats]
+
+
+def gamma22(pfm):
+    """A linear PFM as the reference encodes (2.2 power curve, clamped), integer bytes."""
+    import numpy as np
+    return (np.power(np.clip(read_pfm(pfm), 0.0, 1.0), 1 / 2.2) * 255 + 0.5).astype(np.int64)
+
+
+def moved_camera(cam, size, px):
+    """The camera flags moved sideways by px pixels (measured at the target's distance)."""
+    import numpy as np
+    flags = dict(zip(cam[0::2], cam[1::2]))
+    eye = np.array([float(x) for x in flags["--eye"].split(",")])
+    target = np.array([float(x) for x in flags["--target"].split(",")])
+    dist = np.linalg.norm(target - eye)
+    pixel = 2 * dist * math.tan(math.radians(float(flags.get("--fovy", "45"))) / 2) / int(size.split("x")[1])
+    right = np.cross((target - eye) / dist, [0.0, 1.0, 0.0])
+    d = right / np.linalg.norm(right) * px * pixel
+    out = list(cam)
+    out[out.index("--eye") + 1] = ",".join(repr(float(x)) for x in eye + d)
+    out[out.index("--target") + 1] = ",".join(repr(float(x)) for x in target + d)
+    return out
+
+
+def material_table(a, row):
+    """--by-material: the table of one model."""
+    import numpy as np
+    from PIL import Image
+    ids, names = material_ids(a.rast, row["source"], a.out, row["camera"], a.size)
+    if a.self_shift is None:
+        ref = np.asarray(Image.open(row["ref"]).convert("RGB")).astype(np.int64)
+        ours = np.asarray(Image.open(row["rast"].replace(".rast.png", ".rast_g22.png")).convert("RGB")).astype(np.int64)
+        what = "rast (gamma 2.2) against the reference"
+    else:
+        ref = gamma22(row["rast"].replace(".png", ".pfm"))
+        moved = row["rast"].replace(".rast.png", ".moved.pfm")
+        cmd = list(row["command"])
+        cmd[cmd.index(row["rast"].replace(".png", ".pfm"))] = moved  # the command that drew the PFM
+        cmd = cmd[:cmd.index(row["camera"][0])] + moved_camera(row["camera"], a.size, a.self_shift) + \
+            cmd[cmd.index(row["camera"][0]) + len(row["camera"]):]
+        subprocess.run(cmd, capture_output=True, text=True, check=True)
+        ours = gamma22(moved)
+        what = f"rast (gamma 2.2) against itself moved by {a.self_shift} px"
+    inner = erode(np.any(ref > 0, axis=2) & np.any(ours > 0, axis=2))  # black background, as fidelity.py
+    dmax = np.abs(ref - ours).max(axis=2)
+    print(f"\n{row['model']}, {what}: {int(inner.sum())} interior pixels, {int(np.sum(inner & (dmax > 8)))} beyond 8/255\n")
+    print("| material | interior px | beyond 3/255 | beyond 8/255 | share beyond 8 | mean diff /255 | signed mean r, g, b |")
+    print("|---|---|---|---|---|---|---|")
+
+    def line(label, sel):
+        m = inner & sel
+        n = int(m.sum())
+        if n:
+            d = (ours - ref)[m]
+            print(f"| {label} | {n} | {int(np.sum(dmax[m] > 3))} | {int(np.sum(dmax[m] > 8))} | {np.mean(dmax[m] > 8):.3f} | "
+                  f"{np.abs(d).mean():.2f} | {d[:, 0].mean():+.2f}, {d[:, 1].mean():+.2f}, {d[:, 2].mean():+.2f} |")
+
+    for i, n in enumerate(names):
+        line(n, ids == i)
+    line("(no material in the id image)", ids < 0)
+    for g in a.group:
+        label, _, rx = g.partition("=")
+        sel = np.zeros(ids.shape, dtype=bool)
+        for i, n in enumerate(names):
+            if re.search(rx, n):
+                sel |= ids == i
+        line(f"**{label}**", sel)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--rast", required=True)
@@ -173,8 +291,13 @@ def main():
     ap.add_argument("--skip-ref", action="store_true", help="reuse OUT/*.ref.png")
     ap.add_argument("--no-added-light", action="store_true", help="add no light to files without any (with --env)")
     ap.add_argument("--samplers", choices=["nomip", "mipnear"], help="change every sampler of the copies (above)")
+    ap.add_argument("--by-material", action="store_true", help="where the disagreement lies, material by material")
+    ap.add_argument("--group", action="append", default=[], help="with --by-material: a row LABEL for names matching REGEX")
+    ap.add_argument("--self-shift", type=float, default=None, help="with --by-material: rast against itself moved by PX pixels")
     ap.add_argument("models", nargs="+")
     a = ap.parse_args()
+    if (a.group or a.self_shift is not None) and not a.by_material:
+        ap.error("--group and --self-shift go with --by-material")
     os.makedirs(a.out, exist_ok=True)
     direction = [float(x) for x in a.light.split(",")]
     jobs, rows = [], []
@@ -204,7 +327,13 @@ def main():
         if a.env:
             job["env"] = a.env
         jobs.append(job)
-        rows.append({"model": name, "rast": rast_png, "ref": ref_png, "light_added": added})
+        rows.append({"model": name, "rast": rast_png, "ref": ref_png, "light_added": added, "source": m,
+                     "camera": cam, "command": cmd})
+    if a.self_shift is not None:
+        for row in rows:
+            if "error" not in row:
+                material_table(a, row)
+        return 0
     if not a.skip_ref and jobs:
         # One batch shares the reference's start-up; with an environment a
         # batch drew only its first scene right (the later ones came out
@@ -238,6 +367,10 @@ def main():
               f"{f['within8']:.3f} | {f['mae']:.2f} | {g['within3']:.3f} | {g['within8']:.3f} | {g['mae']:.2f} | "
               f"{f['coverage_iou']:.3f} |")
     json.dump(rows, open(os.path.join(a.out, "fidelity.json"), "w"), indent=1)
+    if a.by_material:
+        for row in rows:
+            if "gamma22" in row:
+                material_table(a, row)
 
 
 if __name__ == "__main__":

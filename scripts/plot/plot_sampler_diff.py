@@ -39,12 +39,14 @@ def row(folder, name, scale):
     y0, y1, x0, x1 = max(ys.min() - 4, 0), ys.max() + 5, max(xs.min() - 4, 0), xs.max() + 5
     panels = [Image.fromarray(a[y0:y1, x0:x1].astype(np.uint8)) for a in (ref, ours, marked)]
     w, h = panels[0].size
-    out = Image.new("RGB", (3 * w * scale + 8, h * scale + 14), (40, 40, 40))
+    n = int(inner.sum())
+    title = (f"{name}: reference | rast | beyond 3/255 (yellow), 8/255 (red): "
+             f"{np.sum(inner & (d > 3)) / n:.1%}, {np.sum(inner & (d > 8)) / n:.1%}")
+    # As wide as the title too (6 pixels a character in PIL's default font), so that it is not cut.
+    out = Image.new("RGB", (max(3 * w * scale + 8, 6 * len(title) + 4), h * scale + 14), (40, 40, 40))
     for k, p in enumerate(panels):
         out.paste(p.resize((w * scale, h * scale), Image.NEAREST), (k * (w * scale + 4), 14))
-    n = int(inner.sum())
-    ImageDraw.Draw(out).text((2, 1), f"{name}: reference | rast | beyond 3/255 (yellow), 8/255 (red): "
-                             f"{np.sum(inner & (d > 3)) / n:.1%}, {np.sum(inner & (d > 8)) / n:.1%}", fill=(230, 230, 230))
+    ImageDraw.Draw(out).text((2, 1), title, fill=(230, 230, 230))
     return out
 
 

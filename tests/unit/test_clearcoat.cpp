@@ -9,41 +9,25 @@
 // not exist, or a factor out of range, is one clear error.
 #include <catch2/catch.hpp>
 
-#include "base/color.h"
 #include "host/image/image_io.h"
-#include "host/scene/camera.h"
-#include "tests/support/test_support.h"
-#include "tests/unit/loader_test_helpers.h"
+#include "tests/unit/pbr_axis_square.h"
 
 #include <cmath>
 
 using namespace rast;
 using namespace rast::loader_test;
+using namespace rast::pbr_axis;
 using Catch::Matchers::Contains;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr int kSize = 33;  // odd: a pixel centre lies on the axis
-
-// A 2x2 square in the z = 0 plane facing +z, with TEXCOORD_0 and material
-// `material`, lit by a directional light of 1 lux shining along -z; the
-// textures' images are the files `images` (one texture each).
+// The axis square with TEXCOORD_0 and material `material`, lit by a
+// directional light of 1 lux shining along -z; the textures' images are the
+// files `images` (one texture each).
 Doc litSquare(const json& material, const std::vector<std::string>& images = {}) {
-  Doc doc;
-  const std::vector<float> pos = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
-  const std::vector<float> nrm = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
-  const json attrs = {{"POSITION", doc.vec3(pos)}, {"NORMAL", doc.vec3(nrm)},
-                      {"TEXCOORD_0", doc.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 2)}};
-  const int ia = doc.accessor(doc.view(idx), kU16, idx.size(), "SCALAR");
-  doc.prim({{"attributes", attrs}, {"indices", ia}, {"material", 0}});
-  doc.j["materials"] = json::array({material});
-  doc.j["nodes"].push_back({{"translation", {0, 0, 5}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
-  doc.j["scenes"][0]["nodes"].push_back(1);
-  doc.j["extensions"] = {
-      {"KHR_lights_punctual", {{"lights", json::array({{{"type", "directional"}, {"intensity", 1.0}}})}}}};
-  doc.j["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_clearcoat"};
+  const json sun = {{"type", "directional"}, {"intensity", 1.0}};
+  Doc doc = square(material, &sun, {{"translation", {0, 0, 5}}}, true);
+  doc.j["extensionsUsed"].push_back("KHR_materials_clearcoat");
   for (size_t k = 0; k < images.size(); ++k) {
     doc.j["textures"].push_back({{"source", int(k)}});
     doc.j["images"].push_back({{"uri", images[k]}});
@@ -58,30 +42,8 @@ json coated(const json* coat) {
   return m;
 }
 
-test::Frame frame(const Scene& s) {
-  Camera cam;
-  cam.eye = {0, 0, 3};
-  cam.target = {0, 0, 0};
-  RenderSettings rs;
-  rs.width = rs.height = kSize;
-  rs.shading = ShadingMode::Pbr;
-  rs.environment = "none";  // the file's light alone: the closed forms below
-  rs.filter = TexFilter::Nearest;
-  return test::renderFrame(s, cam, rs);
-}
-
 // The centre pixel's red channel, linear (decoded from the 8-bit sRGB image).
-double centre(const Scene& s) {
-  const uint32_t c = frame(s).color[size_t(kSize / 2) * kSize + kSize / 2];
-  return srgbDecode((c & 0xff) / 255.0);
-}
-
-// What 8-bit sRGB can tell apart: one step at the value's level, plus rounding.
-void near(double got, double want) {
-  const double tol = std::max(1.5 / 255.0, 2.0 * (srgbDecode(std::min(1.0, srgbEncode(want) + 1.0 / 255.0)) - want));
-  INFO("got " << got << ", want " << want);
-  CHECK(std::abs(got - want) <= tol);
-}
+double centre(const Scene& s) { return centreLinear(axisFrame(s)).x; }
 
 // At N = V = L = H under 1 lux: the white base (Appendix B, roughness 1) and
 // the coat's GGX lobe (visibility 1/4, D = 1 / (pi a^2), a = roughness^2),
@@ -112,13 +74,13 @@ TEST_CASE("clearcoat: a second GGX layer over the base, weighted by factor x Fre
 
 TEST_CASE("clearcoat: a coat of 0 draws the bytes of no coat", "[pbr][clearcoat]") {
   TempDir d;
-  const std::vector<uint32_t> none = frame(loadDoc(litSquare(coated(nullptr)), d, "none")).color;
+  const std::vector<uint32_t> none = axisFrame(loadDoc(litSquare(coated(nullptr)), d, "none")).color;
   const json zero = {{"clearcoatFactor", 0.0}, {"clearcoatRoughnessFactor", 0.3}};
-  CHECK(frame(loadDoc(litSquare(coated(&zero)), d, "zero")).color == none);
+  CHECK(axisFrame(loadDoc(litSquare(coated(&zero)), d, "zero")).color == none);
   // A coat whose texture's R is 0 everywhere: the coat's instance, the base's bytes.
   writePng(d.file("black.png"), 1, 1, {0xff000000u});
   const json masked = {{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.5}, {"clearcoatTexture", {{"index", 0}}}};
-  CHECK(frame(loadDoc(litSquare(coated(&masked), {"black.png"}), d, "masked")).color == none);
+  CHECK(axisFrame(loadDoc(litSquare(coated(&masked), {"black.png"}), d, "masked")).color == none);
 }
 
 TEST_CASE("clearcoat: factor x texture R, roughness x texture G, the coat's normal map", "[pbr][clearcoat]") {

@@ -7,73 +7,27 @@
 // emission and its strength, unlit, the lights' falloff, range window and
 // spot cone, single- and double-sided faces, normal maps and their tangent
 // frame (the file's TANGENT, its handedness, a mirroring node, generated),
-// each texture's own texCoord set and transform.
+// each texture's own texCoord set and transform, and the mipmaps of colour
+// (averaged in linear light) and data textures (averaged as stored).
 #include <catch2/catch.hpp>
 
-#include "base/color.h"
 #include "host/image/image_io.h"
-#include "host/scene/camera.h"
-#include "tests/support/test_support.h"
-#include "tests/unit/loader_test_helpers.h"
+#include "tests/unit/pbr_axis_square.h"
 
 #include <cmath>
 
 using namespace rast;
 using namespace rast::loader_test;
+using namespace rast::pbr_axis;
 using Catch::Matchers::Contains;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr int kSize = 33;  // odd: a pixel centre lies on the axis
+using pbr_axis::near;
 
-// A 2x2 square in the z = 0 plane facing +z, with material 0, and a light
-// (KHR_lights_punctual) when `light` is not null, placed by a node with `lightNode`'s values.
-// `tangent`: a TANGENT attribute (4 floats a vertex) when not empty.
-Doc square(const json& material, const json* light = nullptr, const json& lightNode = json::object(),
-           bool withUv = false, const std::vector<float>& tangent = {}) {
-  Doc doc;
-  const std::vector<float> pos = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
-  const std::vector<float> nrm = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
-  json attrs = {{"POSITION", doc.vec3(pos)}, {"NORMAL", doc.vec3(nrm)}};
-  if (withUv) attrs["TEXCOORD_0"] = doc.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 2);
-  if (!tangent.empty()) attrs["TANGENT"] = doc.floats(tangent, "VEC4", 4);
-  const int ia = doc.accessor(doc.view(idx), kU16, idx.size(), "SCALAR");
-  doc.prim({{"attributes", attrs}, {"indices", ia}, {"material", 0}});
-  doc.j["materials"] = json::array({material});
-  if (light) {
-    json node = lightNode;
-    node["extensions"] = {{"KHR_lights_punctual", {{"light", 0}}}};
-    doc.j["nodes"].push_back(node);
-    doc.j["scenes"][0]["nodes"].push_back(1);
-    doc.j["extensions"] = {{"KHR_lights_punctual", {{"lights", json::array({*light})}}}};
-    doc.j["extensionsUsed"] = {"KHR_lights_punctual"};
-  }
-  return doc;
-}
+// The centre pixel's colour, linear, seen from `eye`.
+rast::float3 centre(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) { return centreLinear(axisFrame(s, eye)); }
 
-// The centre pixel's colour, linear (decoded from the 8-bit sRGB image).
-rast::float3 centre(const Scene& s, const glm::dvec3& eye = {0, 0, 3}) {
-  Camera cam;
-  cam.eye = eye;
-  cam.target = {0, 0, 0};
-  RenderSettings rs;
-  rs.width = rs.height = kSize;
-  rs.shading = ShadingMode::Pbr;
-  rs.environment = "none";  // the file's lights alone: the closed forms below
-  rs.filter = TexFilter::Nearest;
-  const uint32_t c = test::renderFrame(s, cam, rs).color[size_t(kSize / 2) * kSize + kSize / 2];
-  return rast::float3{float(srgbDecode((c & 0xff) / 255.0)), float(srgbDecode(((c >> 8) & 0xff) / 255.0)),
-                float(srgbDecode(((c >> 16) & 0xff) / 255.0))};
-}
-
-// What 8-bit sRGB can tell apart: one step at the value's level, plus rounding.
-void near(float got, double want) {
-  const double tol = std::max(1.5 / 255.0, 2.0 * (srgbDecode(std::min(1.0, srgbEncode(want) + 1.0 / 255.0)) - want));
-  INFO("got " << got << ", want " << want);
-  CHECK(std::abs(double(got) - want) <= tol);
-}
 void near(const rast::float3& got, double r, double g, double b) {
   near(got.x, r);
   near(got.y, g);
@@ -204,6 +158,39 @@ TEST_CASE("pbr: metallicRoughness and normal textures", "[pbr]") {
   // scale 0 flattens any map back to the surface normal.
   const json flatten = {{"normalTexture", {{"index", 0}, {"scale", 0.0}}}};
   near(centre(loadDoc(textured(flatten, "tilt.png", white), d, "z")).x, brdfAxis(1, 0, 0.5, 1));
+}
+
+TEST_CASE("pbr: mipmaps average colour textures in linear light and data textures as stored", "[pbr]") {
+  TempDir d;
+  const json kNode = {{"translation", {0, 0, 5}}};
+  // Checkers of one texel, 256 wide, about ten texels a pixel on the square:
+  // the glTF samplers' filter (LINEAR_MIPMAP_LINEAR) reads levels 3 and 4,
+  // where the checks have become their average.
+  const int n = 256;
+  std::vector<uint32_t> metal(size_t(n) * n), bw(size_t(n) * n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const bool on = (x + y) & 1;
+      metal[size_t(y) * n + x] = 0xff00ff00u | (on ? 0x00ff0000u : 0u);  // G 255: roughness 1; B 0 or 255: metal
+      bw[size_t(y) * n + x] = on ? 0xffffffffu : 0xff000000u;
+    }
+  writePng(d.file("metal.png"), n, n, metal);
+  writePng(d.file("bw.png"), n, n, bw);
+  auto render = [&](const char* slot, const char* image, const json& base, const char* name) {
+    json m = base;
+    m["pbrMetallicRoughness"][slot] = {{"index", 0}};
+    Doc doc = square(m, &kSun, kNode, true);
+    doc.j["textures"] = json::array({{{"source", 0}}});
+    doc.j["images"] = json::array({{{"uri", image}}});
+    return centreLinear(axisFrame(loadDoc(doc, d, name), {0, 0, 3}, TexFilter::Auto)).x;
+  };
+  // Data (metallicRoughness, linear): metal 0 and 1 average to the byte 128,
+  // not to sRGB's 188 (0.74), which averaging decoded values would give.
+  near(render("metallicRoughnessTexture", "metal.png", pbrMaterial(1, 1, 1, 1, 1), "data"),
+       brdfAxis(1, 128.0 / 255.0, 1, 1));
+  // Colour (base colour, sRGB): black and white average to half the light (the byte 188).
+  near(render("baseColorTexture", "bw.png", pbrMaterial(1, 1, 1, 0, 1), "colour"),
+       brdfAxis(srgbDecode(188.0 / 255.0), 0, 1, 1));
 }
 
 TEST_CASE("pbr: normal maps take the file's TANGENT and its handedness, else generated tangents", "[pbr]") {
