@@ -12,18 +12,14 @@ what the two cover.
 """
 import argparse
 import os
+import sys
 
 import numpy as np
 from PIL import Image, ImageDraw
 
-
-def erode(m):
-    e = m.copy()
-    e[1:, :] &= m[:-1, :]
-    e[:-1, :] &= m[1:, :]
-    e[:, 1:] &= m[:, :-1]
-    e[:, :-1] &= m[:, 1:]
-    return e
+# The interior pixels as pbr_fidelity.py (and fidelity.py) count them.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "measure"))
+from pbr_fidelity import erode  # noqa: E402
 
 
 def row(folder, name, scale):
