@@ -154,11 +154,16 @@ def read_pfm(path):
     return data.reshape(h, w, c)[::-1]
 
 
+def gamma22(pfm):
+    """A linear PFM as the reference encodes (2.2 power curve, clamped), integer bytes."""
+    import numpy as np
+    return (np.power(np.clip(read_pfm(pfm), 0.0, 1.0), 1 / 2.2) * 255 + 0.5).astype(np.int64)
+
+
 def write_gamma22_png(pfm, png):
     import numpy as np
     from PIL import Image
-    lin = np.clip(read_pfm(pfm), 0.0, 1.0)
-    Image.fromarray((np.power(lin, 1 / 2.2) * 255 + 0.5).astype(np.uint8)).save(png)
+    Image.fromarray(gamma22(pfm).astype(np.uint8)).save(png)
 
 
 def camera_flags(rast, scene, size, out_dir):
@@ -209,12 +214,6 @@ def material_ids(rast, model, out, cam, size):
     subprocess.run([rast, "render", path, "--size", size, "-o", pfm, "--shading", "pbr", "--aa", "none",
                     "--tonemap", "none", "--env", "none"] + cam, check=True, capture_output=True)
     return np.rint(read_pfm(pfm)[..., 0] * 255).astype(int) - 1, [m["name"] for m in mats]
-
-
-def gamma22(pfm):
-    """A linear PFM as the reference encodes (2.2 power curve, clamped), integer bytes."""
-    import numpy as np
-    return (np.power(np.clip(read_pfm(pfm), 0.0, 1.0), 1 / 2.2) * 255 + 0.5).astype(np.int64)
 
 
 def moved_camera(cam, size, px):
