@@ -120,6 +120,10 @@ DeviceScene DeviceScene::upload(const Scene& s) {
   d.hasUV = usesTexture && !s.uvs.empty();
   d.hasColor = !s.colors.empty();
   d.hasTextures = usesTexture;
+  d.baseTexturesOnly = usesTexture;
+  for (const Material& m : s.materials)
+    d.baseTexturesOnly = d.baseTexturesOnly && m.metallicRoughnessTexture < 0 && m.normalTexture < 0 &&
+                         m.occlusionTexture < 0 && m.emissiveTexture < 0 && !m.hasClearcoat();
   // Which textures are data (normal, metal/rough, occlusion, coat maps) and
   // never colour (base colour, emission): their mipmaps average the stored
   // values, as the specification's linear textures ask, not the sRGB-decoded ones.

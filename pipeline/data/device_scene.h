@@ -58,6 +58,10 @@ struct DeviceScene {
   // camera (Renderer::enqueue), or the vertex stage computes them.
   bool hostMvps() const { return numDraws <= kHostMatricesMaxDraws; }
   bool hasUV = false, hasColor = false, hasTextures = false, hasTangents = false, hasUV1 = false;
+  // No material samples a texture but its base colour (and none has a clear
+  // coat): the glTF shading then samples that one texture without the loop
+  // over the material's slots (kPbrBaseTexture, pipeline/shade/pbr_fragment.h).
+  bool baseTexturesOnly = false;
   // MASK and BLEND materials (docs/transparency.md): per draw its class and
   // cutoff, uploaded only when some drawn primitive has one of them.
   DView<AlphaDraw> alphaDraws;

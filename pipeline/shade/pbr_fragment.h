@@ -195,6 +195,8 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   // The clear coat's code: its instance and the general kernel (kPbrAny has every bit).
   constexpr bool kCoat = (kFeat & kPbrClearcoat) != 0;
   constexpr bool kRunTime = kAny || kCoat;  // the other features read at run time
+  // Only base colour textures in the scene: that one sampled at its own call site.
+  constexpr bool kBaseOnly = !kRunTime && (kFeat & kPbrBaseTexture) != 0;
   const bool useEnv = kRunTime ? p.useEnv != 0 : (kFeat & kPbrEnv) != 0;
   const bool anyPunctual = kRunTime ? numPunctual > 0 : (kFeat & kPbrPunctual) != 0;
   const MaterialGPU& m = t.m;
@@ -202,7 +204,7 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   const bool coat = kCoat && (m.flags & kMaterialClearcoat);
   ClearcoatGPU cc{0.0f, 0.0f, 1.0f, -1, -1, -1};
   if (coat) cc = clearcoats(f.material);
-  const uint32_t on1 = t.on1;
+  const uint32_t on1 = kBaseOnly ? 0u : t.on1;  // (the base colour always takes the first set)
   UvSet c0, c1;
   if (textured) {
     const float b[3] = {b0, b1, b2};
@@ -222,7 +224,9 @@ RAST_GPU_INLINE float4 Shade::shadePbr(const TriFrag& f, const PbrTri& t, int32_
   float4 tx[kCoat ? kCoatSlots : kTextureSlots] = {};
   if (textured) {
     if constexpr (kCoat) coatTexels(f, m, cc, on1, c0, c1, tx);
-    else materialTexels(f, m, on1, c0, c1, tx);
+    else if constexpr (kBaseOnly) {  // materialTexels' base colour slot, alone
+      if (m.texture >= 0) tx[SlotBaseColor] = sampleTexture(f.tex, c0.uv, DecodeTable{lut.data()}, c0.dx, c0.dy);
+    } else materialTexels(f, m, on1, c0, c1, tx);
   }
   float4 base = m.baseColor;
   if (textured && m.texture >= 0) base = base * tx[SlotBaseColor];

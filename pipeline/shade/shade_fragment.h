@@ -91,7 +91,17 @@ struct PbrTri {
 // has a KHR_materials_clearcoat layer; that instance (kPbrClearcoat alone)
 // reads the other three at run time, so that the rare scenes with a coat
 // compile one instance more, not eight, and the others carry none of it.
-enum PbrFeature : int { kPbrTextured = 1, kPbrEnv = 2, kPbrPunctual = 4, kPbrClearcoat = 8, kPbrAny = -1 };
+// kPbrBaseTexture (with kPbrTextured only): no material samples a texture
+// but its base colour (DeviceScene::baseTexturesOnly), which is then sampled
+// at its own call site, without the loop over the material's slots.
+enum PbrFeature : int {
+  kPbrTextured = 1,
+  kPbrEnv = 2,
+  kPbrPunctual = 4,
+  kPbrClearcoat = 8,
+  kPbrBaseTexture = 16,
+  kPbrAny = -1
+};
 
 struct Shade {
   // scene
@@ -115,6 +125,7 @@ struct Shade {
   uint32_t numDraws;
   int32_t hasUV, hasColor;
   int32_t hasTangent = 0, hasUV1 = 0;
+  int32_t baseTexturesOnly = 0;  // DeviceScene::baseTexturesOnly (kPbrBaseTexture)
   // frame
   DView<RasterTri> tris;
   DView<uint64_t> vis;

@@ -53,6 +53,7 @@ void launchPbrWith(const Shade& k, const Range& items) {
 }
 
 void launchPbr(const Shade& k, const Range& items) {
+  using shading::kPbrBaseTexture;
   using shading::kPbrClearcoat;
   using shading::kPbrEnv;
   using shading::kPbrPunctual;
@@ -60,7 +61,13 @@ void launchPbr(const Shade& k, const Range& items) {
   // A scene with a clear coat takes the one instance that draws it (the
   // other features read at run time: see PbrFeature).
   if (k.hasClearcoat) return launchPbrWith<kPbrClearcoat>(k, items);
-  switch ((k.hasUV ? kPbrTextured : 0) | (k.p.useEnv ? kPbrEnv : 0) | (k.numPunctual > 0 ? kPbrPunctual : 0)) {
+  // Scenes whose only textures are base colours (most game assets and
+  // scans) sample that one texture without the loop over the slots: on the
+  // H100 the loop, its texel array and the filter's generality cost the
+  // textured models more than the glTF BRDF (docs/performance.md).
+  constexpr int kBase = kPbrTextured | kPbrBaseTexture;
+  switch ((k.hasUV ? (k.baseTexturesOnly ? kBase : kPbrTextured) : 0) | (k.p.useEnv ? kPbrEnv : 0) |
+          (k.numPunctual > 0 ? kPbrPunctual : 0)) {
     case 0: return launchPbrWith<0>(k, items);
     case kPbrTextured: return launchPbrWith<kPbrTextured>(k, items);
     case kPbrEnv: return launchPbrWith<kPbrEnv>(k, items);
@@ -68,7 +75,11 @@ void launchPbr(const Shade& k, const Range& items) {
     case kPbrPunctual: return launchPbrWith<kPbrPunctual>(k, items);
     case kPbrTextured | kPbrPunctual: return launchPbrWith<kPbrTextured | kPbrPunctual>(k, items);
     case kPbrEnv | kPbrPunctual: return launchPbrWith<kPbrEnv | kPbrPunctual>(k, items);
-    default: return launchPbrWith<kPbrTextured | kPbrEnv | kPbrPunctual>(k, items);
+    case kPbrTextured | kPbrEnv | kPbrPunctual: return launchPbrWith<kPbrTextured | kPbrEnv | kPbrPunctual>(k, items);
+    case kBase: return launchPbrWith<kBase>(k, items);
+    case kBase | kPbrEnv: return launchPbrWith<kBase | kPbrEnv>(k, items);
+    case kBase | kPbrPunctual: return launchPbrWith<kBase | kPbrPunctual>(k, items);
+    default: return launchPbrWith<kBase | kPbrEnv | kPbrPunctual>(k, items);
   }
 }
 
@@ -139,6 +150,7 @@ shading::Shade makeShade(const DeviceScene& s, FrameBuffers& f, const ShadeParam
   k.tangents = s.tangents;
   k.uvs1 = s.uvs1;
   k.hasUV1 = s.hasUV1 ? 1 : 0;
+  k.baseTexturesOnly = s.baseTexturesOnly ? 1 : 0;
   k.hasTangent = s.hasTangents ? 1 : 0;
   k.materials = s.materials;
   k.clearcoats = s.clearcoats;

@@ -11,6 +11,7 @@
 
 #include "host/scene/camera.h"
 #include "host/gltf/gltf_loader.h"
+#include "pipeline/data/device_scene.h"
 #include "pipeline/data/test_hooks.h"
 #include "scenes/procedural.h"
 #include "tests/support/test_support.h"
@@ -109,6 +110,23 @@ TEST_CASE("the glTF shading's kernel gives the general kernel's images", "[shade
   RenderSettings film = env;
   film.post.tonemap = ToneMap::Neutral;  // the float film
   compareForms("default, glTF, environment, tone mapped", d, cam, film, false);
+  // builtin:default samples base colour textures only: the frames above
+  // took the instances that sample that texture alone (kPbrBaseTexture).
+  // With an occlusion texture too they take the loop over the material's
+  // slots (Shade::materialTexels), compared the same way.
+  CHECK(DeviceScene::upload(d).baseTexturesOnly);
+  Scene occluded = d;
+  size_t withTexture = 0;
+  for (Material& m : occluded.materials)
+    if (m.texture >= 0) {
+      m.occlusionTexture = m.texture;
+      m.occlusionStrength = 0.5f;
+      ++withTexture;
+    }
+  REQUIRE(withTexture > 0);
+  CHECK_FALSE(DeviceScene::upload(occluded).baseTexturesOnly);
+  compareForms("default with occlusion textures, glTF, headlight", occluded, cam, rs, false);
+  compareForms("default with occlusion textures, glTF, built-in environment", occluded, cam, env, false);
   const std::string a = assimpDir();
   if (a.empty()) {
     skipTest("assimp-testmodels is absent: ClearCoatTest (emissive and normal maps) was not compared");
