@@ -208,7 +208,7 @@ TEST_CASE("anisotropic filtering follows the GL footprint and level of detail", 
   const IdentityLut L;
   auto g = [](rast::float4 c) { return double(c.x) * 255.0; };
   const float u = 3.76f / 8, v = 0.4f;
-  auto tapsMean = [&](auto sampleAt, float2 axis, int n) {
+  auto tapsMean = [&](auto sampleAt, rast::float2 axis, int n) {
     double acc = 0.0;
     for (int i = 0; i < n; ++i) {
       const float s = (float(i) + 0.5f) / float(n) - 0.5f;
@@ -222,7 +222,7 @@ TEST_CASE("anisotropic filtering follows the GL footprint and level of detail", 
     // isotropic lambda = 2, but magnified by lambda': the sampler's LINEAR
     // magnification, not NEAREST_MIPMAP_LINEAR's nearest texel.
     const TextureGPU t = ramp.texture(9986);
-    const float2 dx{4.0f / 8, 0.0f}, dy{0.0f, 0.5f / 8};
+    const rast::float2 dx{4.0f / 8, 0.0f}, dy{0.0f, 0.5f / 8};
     const double linear = tapsMean([&](float a, float b) { return sampleBilinear(t, T, L, a, b); }, dx, 8);
     const double nearest = tapsMean([&](float a, float b) { return sampleNearest(t, T, L, a, b); }, dx, 8);
     CHECK(linear == Approx(30.0 * (3.76 - 0.5)).margin(1e-3));  // the ramp at the centre
@@ -232,7 +232,7 @@ TEST_CASE("anisotropic filtering follows the GL footprint and level of detail", 
   SECTION("minified: the taps at lambda' along the longer side") {
     // Pmax = 8 texels (along y this time), Pmin = 2: 4 taps at level 1 exactly.
     const TextureGPU t = ramp.texture(9987);
-    const float2 dx{2.0f / 8, 0.0f}, dy{0.0f, 8.0f / 8};
+    const rast::float2 dx{2.0f / 8, 0.0f}, dy{0.0f, 8.0f / 8};
     const TextureGPU l1 = mipLevel(t, 1);
     const double expect = tapsMean([&](float a, float b) { return sampleBilinear(l1, T, L, a, b); }, dy, 4);
     CHECK(g(sampleSampler(t, T, L, u, v, dx, dy, 16)) == Approx(expect).margin(1e-3));
@@ -242,8 +242,8 @@ TEST_CASE("anisotropic filtering follows the GL footprint and level of detail", 
   SECTION("NEAREST_MIPMAP_NEAREST picks level ceil(lambda + 1/2) - 1") {
     const TextureGPU t = ramp.texture(9984);
     // lambda = 0.5 exactly (a side of sqrt(2) texels): level 0, whose nearest texel is x = 3.
-    CHECK(g(sampleSampler(t, T, L, u, v, float2{1.0f / 8, 1.0f / 8}, float2{0.0f, 0.0f}, 1)) == Approx(90.0));
+    CHECK(g(sampleSampler(t, T, L, u, v, rast::float2{1.0f / 8, 1.0f / 8}, rast::float2{0.0f, 0.0f}, 1)) == Approx(90.0));
     // lambda = log2(1.5) = 0.58: level 1, texel x = 1 (5 + 50).
-    CHECK(g(sampleSampler(t, T, L, u, v, float2{1.5f / 8, 0.0f}, float2{0.0f, 0.0f}, 1)) == Approx(55.0));
+    CHECK(g(sampleSampler(t, T, L, u, v, rast::float2{1.5f / 8, 0.0f}, rast::float2{0.0f, 0.0f}, 1)) == Approx(55.0));
   }
 }

@@ -48,20 +48,20 @@ int main(int argc, char** argv) {
       first = false;
       const uint32_t v0 = p.firstVertex;
       list("positions", p.vertexCount, [&](uint32_t i) {
-        const float3 q = s.positions[v0 + i];
+        const rast::float3 q = s.positions[v0 + i];
         std::printf("%.9g,%.9g,%.9g", q.x, q.y, q.z);
       });
       list("normals", p.vertexCount, [&](uint32_t i) {
-        const float3 q = s.normals[v0 + i];
+        const rast::float3 q = s.normals[v0 + i];
         std::printf("%.9g,%.9g,%.9g", q.x, q.y, q.z);
       });
       list("uvs", p.vertexCount, [&](uint32_t i) {
-        const float2 q = s.uvs[v0 + i];
+        const rast::float2 q = s.uvs[v0 + i];
         std::printf("%.9g,%.9g", q.x, q.y);
       });
       list("indices", 3 * p.triCount, [&](uint32_t i) { std::printf("%u", s.indices[3 * size_t(p.firstTri) + i]); });
       list("tangents", p.vertexCount, [&](uint32_t i) {
-        const float4 q = s.tangents[v0 + i];
+        const rast::float4 q = s.tangents[v0 + i];
         std::printf("%.9g,%.9g,%.9g,%.9g", q.x, q.y, q.z, q.w);
       }, true);
       std::printf("}");

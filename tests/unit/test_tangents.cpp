@@ -18,7 +18,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-void same(const float4& got, float x, float y, float z, float w) {
+void same(const rast::float4& got, float x, float y, float z, float w) {
   INFO("got (" << got.x << ", " << got.y << ", " << got.z << ", " << got.w << ")");
   CHECK(std::abs(got.x - x) < 1e-5f);
   CHECK(std::abs(got.y - y) < 1e-5f);
@@ -26,12 +26,12 @@ void same(const float4& got, float x, float y, float z, float w) {
   CHECK(got.w == w);
 }
 
-const std::vector<float3> kSquare = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
-const std::vector<float3> kUp = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+const std::vector<rast::float3> kSquare = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+const std::vector<rast::float3> kUp = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
 const std::vector<uint32_t> kQuad = {0, 1, 2, 0, 2, 3};
 
-std::vector<float4> generated(const std::vector<float3>& pos, const std::vector<float3>& nrm,
-                              const std::vector<float2>& uv, std::vector<uint32_t> idx = kQuad) {
+std::vector<rast::float4> generated(const std::vector<rast::float3>& pos, const std::vector<rast::float3>& nrm,
+                              const std::vector<rast::float2>& uv, std::vector<uint32_t> idx = kQuad) {
   return generateTangents(pos, nrm, uv, idx, false).tangents;
 }
 
@@ -57,39 +57,39 @@ const json kNormalMapped = {{"normalTexture", {{"index", 0}}}};
 
 TEST_CASE("tangents: generated per vertex from dP/du, handedness from dP/dv", "[tangents]") {
   // u to the right, v down the image: T = +x, and -dP/dv = +y = N x T, so w = +1.
-  std::vector<float2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-  for (const float4& t : generated(kSquare, kUp, uv)) same(t, 1, 0, 0, 1);
+  std::vector<rast::float2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  for (const rast::float4& t : generated(kSquare, kUp, uv)) same(t, 1, 0, 0, 1);
   // u mirrored: T = -x, the bitangent still +y = -(N x T): w = -1.
   uv = {{1, 1}, {0, 1}, {0, 0}, {1, 0}};
-  for (const float4& t : generated(kSquare, kUp, uv)) same(t, -1, 0, 0, -1);
+  for (const rast::float4& t : generated(kSquare, kUp, uv)) same(t, -1, 0, 0, -1);
   // Coordinates rotated 90 degrees (u up the square): T = +y.
   uv = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
-  for (const float4& t : generated(kSquare, kUp, uv)) same(t, 0, 1, 0, 1);
+  for (const rast::float4& t : generated(kSquare, kUp, uv)) same(t, 0, 1, 0, 1);
 }
 
 TEST_CASE("tangents: summed over a vertex's triangles, orthogonal to its normal", "[tangents]") {
   // Two triangles sharing the edge 0-1 and folded along it (a roof over the
   // x axis): each triangle's dP/du is +x, and a shared vertex's normal leans
   // towards +y; its tangent stays +x (already orthogonal), w +1.
-  const std::vector<float3> pos = {{0, 0, 0}, {1, 0, 0}, {0, 1, -1}, {0, -1, -1}};
+  const std::vector<rast::float3> pos = {{0, 0, 0}, {1, 0, 0}, {0, 1, -1}, {0, -1, -1}};
   const float s = 1.0f / std::sqrt(2.0f);
-  const std::vector<float3> nrm = {{0, 0, 1}, {0, 0, 1}, {0, s, s}, {0, -s, s}};
-  const std::vector<float2> uv = {{0, 0.5f}, {1, 0.5f}, {0, 0}, {0, 1}};
-  const std::vector<float4> t = generated(pos, nrm, uv, {0, 1, 2, 1, 0, 3});
-  for (const float4& v : t) same(v, 1, 0, 0, 1);
+  const std::vector<rast::float3> nrm = {{0, 0, 1}, {0, 0, 1}, {0, s, s}, {0, -s, s}};
+  const std::vector<rast::float2> uv = {{0, 0.5f}, {1, 0.5f}, {0, 0}, {0, 1}};
+  const std::vector<rast::float4> t = generated(pos, nrm, uv, {0, 1, 2, 1, 0, 3});
+  for (const rast::float4& v : t) same(v, 1, 0, 0, 1);
   // A normal not orthogonal to dP/du: the tangent is its part in the normal's plane.
-  const std::vector<float3> tilted = {{s, 0, s}, {s, 0, s}, {s, 0, s}, {s, 0, s}};
-  const std::vector<float2> flat = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-  for (const float4& v : generated(kSquare, tilted, flat)) same(v, s, 0, -s, 1);
+  const std::vector<rast::float3> tilted = {{s, 0, s}, {s, 0, s}, {s, 0, s}, {s, 0, s}};
+  const std::vector<rast::float2> flat = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  for (const rast::float4& v : generated(kSquare, tilted, flat)) same(v, s, 0, -s, 1);
   // Degenerate coordinates (every vertex at one uv): no tangent, w 0.
-  const std::vector<float2> one(4, float2{0.5f, 0.5f});
-  for (const float4& v : generated(kSquare, kUp, one)) same(v, 0, 0, 0, 0);
+  const std::vector<rast::float2> one(4, rast::float2{0.5f, 0.5f});
+  for (const rast::float4& v : generated(kSquare, kUp, one)) same(v, 0, 0, 0, 0);
 }
 
 TEST_CASE("tangents: a vertex shared across a mirrored seam is split, as MikkTSpace splits it", "[tangents]") {
   // Triangle (0, 1, 2) is mapped with u to the right, (0, 2, 3) mirrored:
   // vertices 0 and 2 belong to both handednesses.
-  const std::vector<float2> uv = {{0, 1}, {1, 1}, {1, 0}, {2, 0}};
+  const std::vector<rast::float2> uv = {{0, 1}, {1, 1}, {1, 0}, {2, 0}};
   std::vector<uint32_t> idx = kQuad;
   const GeneratedTangents kept = generateTangents(kSquare, kUp, uv, idx, false);
   CHECK(kept.copies.empty());
@@ -118,7 +118,7 @@ TEST_CASE("tangents: the loader keeps them only for normal-mapped materials", "[
   // A normal texture without TANGENT: generated.
   const Scene gen = loadDoc(square(kNormalMapped), d, "gen");
   REQUIRE(gen.tangents.size() == gen.positions.size());
-  for (const float4& t : gen.tangents) same(t, 1, 0, 0, 1);
+  for (const rast::float4& t : gen.tangents) same(t, 1, 0, 0, 1);
   // With TANGENT: the file's, w as the sign it carries.
   const Scene fromFile = loadDoc(square(kNormalMapped, {0, 1, 0, -0.5f, 0, 1, 0, -1, 0, 1, 0, -1, 0, 1, 0, 2}), d, "file");
   REQUIRE(fromFile.tangents.size() == 4);
