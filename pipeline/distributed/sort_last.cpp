@@ -146,6 +146,7 @@ uint64_t SortLast::frameBytes(int width, int height, int samples) const {
   uint64_t b = ns * 8 + n;
   if (samples > 1) b += n * 4;
   if (kOnDevice && !nccl_) b += ns * 8 + n * sizeof(float4);  // hostKeys_, hostWords_ (the largest merged buffer)
+  b += uint64_t(tables_.runs) * 2 * sizeof(uint64_t);  // rank 0's runs of BLEND triangles held whole
   return b;
 }
 

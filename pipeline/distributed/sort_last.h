@@ -73,7 +73,7 @@ class SortLast : public FrameSplit {
   bool blendsHere() const override { return sceneBlends_ && tables_.me == 0; }
   const DView<uint64_t>& compositedKeys() const override { return global_; }
   // The composited keys and the ownership flags, their host staging on GPUs
-  // without NCCL, and MSAA's mixed index (its slots, sized by the frame, are not
+  // without NCCL, the runs of BLEND triangles held whole, and MSAA's mixed index (its slots, sized by the frame, are not
   // known before it).
   uint64_t frameBytes(int width, int height, int samples) const override;
 
