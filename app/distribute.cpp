@@ -71,13 +71,16 @@ RunScene loadRunScene(const SceneOptions& so, bool share) {
   }
   const std::vector<ShareRange> shares =
       planShares(full.triangleCount(), full.lineCount(), full.pointCount(), Ranks::size());
-  out.scene = takeShare(full, shares[size_t(Ranks::rank())]);
+  // BLEND draws are composited by rank 0, which holds them whole (docs/distributed.md).
+  const bool blend = Ranks::size() > 1 && drawsBlend(full);
+  std::vector<TriRun> blendWhole;
+  out.scene = takeShare(full, shares[size_t(Ranks::rank())], blend && Ranks::rank() == 0 ? &blendWhole : nullptr);
   out.scene.validate();
   full = Scene();  // only the share stays
   // One rank holds the whole frame: nothing to exchange (no composite, no
   // merge; the H100 paid 3 + 1.5 ms a 1080p frame for them, staged through
   // the host).
-  if (Ranks::size() > 1) out.split = std::make_unique<SortLast>(shares, Ranks::rank());
+  if (Ranks::size() > 1) out.split = std::make_unique<SortLast>(shares, Ranks::rank(), blendWhole, blend);
   return out;
 }
 

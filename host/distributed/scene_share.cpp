@@ -13,11 +13,11 @@ uint64_t cut(uint64_t n, int i, int parts) {
 
 // Copies prim `p` of `from` into `to`, keeping triangles [ta, tb), segments
 // [la, lb) and points [pa, pb) of it (relative to the primitive), with only the
-// vertices they use, in their first use's order... kept in source order.
+// vertices they use (every vertex with `allVertices`), kept in source order.
 uint32_t copyPart(const Scene& from, const MeshPrim& p, Scene& to, uint32_t ta, uint32_t tb, uint32_t la, uint32_t lb,
-                  uint32_t pa, uint32_t pb) {
+                  uint32_t pa, uint32_t pb, bool allVertices = false) {
   constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-  std::vector<uint32_t> remap(p.vertexCount, kNone);
+  std::vector<uint32_t> remap(p.vertexCount, allVertices ? 0 : kNone);
   const auto mark = [&](uint32_t v) {
     if (v < p.vertexCount) remap[v] = 0;
   };
@@ -69,6 +69,19 @@ void overlap(uint64_t at, uint64_t n, uint64_t lo, uint64_t hi, uint32_t& a, uin
 
 }  // namespace
 
+bool isBlendDraw(const Scene& s, const Draw& d) {
+  if (d.prim >= s.prims.size()) return false;
+  const MeshPrim& p = s.prims[d.prim];
+  return p.triCount > 0 && p.material >= 0 && size_t(p.material) < s.materials.size() &&
+         s.materials[size_t(p.material)].alphaMode == AlphaMode::Blend;
+}
+
+bool drawsBlend(const Scene& s) {
+  for (const Draw& d : s.draws)
+    if (isBlendDraw(s, d)) return true;
+  return false;
+}
+
 std::vector<ShareRange> planShares(uint64_t triangles, uint64_t lines, uint64_t points, int ranks) {
   std::vector<ShareRange> out(size_t(std::max(ranks, 1)));
   for (int r = 0; r < int(out.size()); ++r) {
@@ -83,7 +96,8 @@ std::vector<ShareRange> planShares(uint64_t triangles, uint64_t lines, uint64_t 
   return out;
 }
 
-Scene takeShare(const Scene& full, const ShareRange& r) {
+Scene takeShare(const Scene& full, const ShareRange& r, std::vector<TriRun>* blendWhole) {
+  if (blendWhole && r.t0 != 0) throw Error("internal: only the first share keeps the BLEND draws whole");
   Scene s;
   s.name = full.name;
   s.camera = full.camera;
@@ -95,23 +109,35 @@ Scene takeShare(const Scene& full, const ShareRange& r) {
   s.sourceFiles = full.sourceFiles;
   std::vector<int64_t> whole(full.prims.size(), -1);  // full prim -> its copy in s, when drawn whole
   uint64_t T = 0, L = 0, P = 0;
+  uint64_t local = 0;  // s's drawn triangles so far
   for (const Draw& d : full.draws) {
     const MeshPrim& p = full.prims[d.prim];
     uint32_t ta, tb, la, lb, pa, pb;
     overlap(T, p.triCount, r.t0, r.t1, ta, tb);
     overlap(L, p.lineCount, r.l0, r.l1, la, lb);
     overlap(P, p.pointCount, r.p0, r.p1, pa, pb);
+    const bool keepWhole = blendWhole && isBlendDraw(full, d);  // triangles only: one kind a primitive
+    if (keepWhole) {
+      // r.t0 is 0: the draw's triangles past r.t1 (all of them, or the tail of
+      // the draw cut by r's end) are numbered after r's, in this order.
+      const uint64_t past = std::max(T, r.t1);
+      if (past < T + p.triCount) blendWhole->push_back(TriRun{local + (past - T), past, T + p.triCount - past});
+      ta = 0;
+      tb = p.triCount;
+    }
     T += p.triCount;
     L += p.lineCount;
     P += p.pointCount;
     if (ta == tb && la == lb && pa == pb) continue;
     uint32_t prim;
     if (tb - ta == p.triCount && lb - la == p.lineCount && pb - pa == p.pointCount) {
-      if (whole[d.prim] < 0) whole[d.prim] = copyPart(full, p, s, 0, p.triCount, 0, p.lineCount, 0, p.pointCount);
+      if (whole[d.prim] < 0)
+        whole[d.prim] = copyPart(full, p, s, 0, p.triCount, 0, p.lineCount, 0, p.pointCount, keepWhole);
       prim = uint32_t(whole[d.prim]);
     } else {
       prim = copyPart(full, p, s, ta, tb, la, lb, pa, pb);
     }
+    local += tb - ta;
     s.draws.push_back(Draw{prim, d.model});
   }
   return s;

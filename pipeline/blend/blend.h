@@ -23,8 +23,10 @@ struct BlendPlan {
 
 void alphaWorkLists(const DeviceScene& s, FrameBuffers& f, const BlendPlan& b);
 void rasterMask(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p);
+// opaqueKeys: every sample's opaque key (f.vis; under a sort-last split the
+// composited keys, whose depth is the whole scene's).
 void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                  const BlendPlan& b);
+                  const BlendPlan& b, const DView<uint64_t>& opaqueKeys);
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                   const BlendPlan& b);
 

@@ -143,6 +143,7 @@ struct Resolve {
 struct CollectLaunch {
   const FragShade& fs;
   const FrameBuffers& f;
+  const DView<uint64_t>& opaqueKeys;
   uint32_t threads;
   int32_t method, k;
   template <int kFam, int kFeat>
@@ -150,7 +151,7 @@ struct CollectLaunch {
     const BlendBuffers& bb = f.blend;
     using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
     Kokkos::parallel_for("rast::blend::collect", heavyweight(Policy(0, threads)),
-                         Collect<kFam, kFeat>{fs, bb.blendStart, bb.totals, f.vis, bb.slots, f.counters, bb.accum,
+                         Collect<kFam, kFeat>{fs, bb.blendStart, bb.totals, opaqueKeys, bb.slots, f.counters, bb.accum,
                                               bb.reveal, f.vp, f.triCapacity, threads, method, k});
   }
 };
@@ -203,7 +204,7 @@ uint64_t blendBytesPerSample(const BlendPlan& b) {
 }
 
 void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                  const BlendPlan& b) {
+                  const BlendPlan& b, const DView<uint64_t>& opaqueKeys) {
   BlendBuffers& bb = f.blend;
   const size_t n = size_t(f.vp.width) * size_t(f.vp.height) * size_t(f.vp.samples.count);
   const bool exact = b.method == Transparency::Exact || b.method == Transparency::Sorted;
@@ -213,7 +214,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
     totals(kBlendMaxDepth) = 0;
   });
   if (exact) {
-    tileLists(f);
+    tileLists(f, opaqueKeys);
     return;
   }
   ensureCapacity(bb.accum, "blend.accum", n);
@@ -228,7 +229,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
   }
   const uint32_t threads = persistentThreads();
   const FragShade fs = makeFragShade(s, f, p, lights);
-  withFragPath(fs, CollectLaunch{fs, f, threads, int32_t(b.method), b.k});
+  withFragPath(fs, CollectLaunch{fs, f, opaqueKeys, threads, int32_t(b.method), b.k});
 }
 
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,

@@ -402,7 +402,7 @@ struct PeelLaunch {
 
 }  // namespace
 
-void tileLists(FrameBuffers& f) {
+void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys) {
   BlendBuffers& bb = f.blend;
   const uint32_t blocksX = uint32_t(f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
   const uint32_t blocks = blocksX * (uint32_t(f.vp.height + (1 << kItemShift) - 1) >> kItemShift);
@@ -423,7 +423,7 @@ void tileLists(FrameBuffers& f) {
   Kokkos::parallel_scan("rast::blend::tiles_layout", Policy(0, blocks), TileScan{bb.tileCount, bb.tileEnd, bb.totals, blocks});
   c.fill = 1;
   Kokkos::parallel_for("rast::blend::tiles_fill", Policy(0, threads), c);
-  auto vis = f.vis;
+  auto vis = opaqueKeys;
   auto opaque = bb.opaque;
   Kokkos::parallel_for("rast::blend::opaque_depth", Range(0, int64_t(n)),
                        KOKKOS_LAMBDA(const int64_t q) { opaque(q) = uint32_t(vis(q) >> 32); });

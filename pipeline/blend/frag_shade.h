@@ -238,7 +238,7 @@ FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams
 
 // The exact and sorted methods (blend_tiles.cpp): the tile lists, built
 // before shading (they read the opaque depth), and the resolve after it.
-void tileLists(FrameBuffers& f);
+void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys);
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                  bool sorted);
 

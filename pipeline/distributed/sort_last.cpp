@@ -36,30 +36,49 @@ KOKKOS_INLINE_FUNCTION int ownerOf(const ShareTables& t, uint64_t key) {
   return findRank(t.tStart, t.ranks, (e < 3 * t.T ? e : e - 3 * t.T) / 3);
 }
 
+// A rank's local triangle made global: its range's are offset by t0, those
+// rank 0 holds whole beyond it (BLEND draws) are found in their runs.
+KOKKOS_INLINE_FUNCTION uint64_t globalTri(const ShareTables& t, uint64_t l) {
+  if (l < t.Tr || t.runs == 0) return t.t0 + l;
+  int lo = 0, hi = t.runs;  // runLocal(lo) <= l < runLocal(hi)
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (t.runLocal(mid) <= l) lo = mid;
+    else hi = mid;
+  }
+  return t.runGlobal(lo) + (l - t.runLocal(lo));
+}
+
 // A rank's key made global: its raster triangle's drawn triangle, or its
-// point/line item, numbered as in the whole scene (raster_lines.h's key space).
+// point/line item, numbered as in the whole scene (raster_lines.h's key space,
+// whose edges and corners are 3 per local triangle).
 KOKKOS_INLINE_FUNCTION uint64_t globalKey(const ShareTables& t, const DView<RasterTri>& tris, uint64_t key) {
   const uint32_t w = uint32_t(key & 0xffffffffu);
   if (w == 0) return key;
   const uint64_t hi = key & 0xffffffff00000000ull;
   const uint32_t k = w - 1;
-  if (!(k & kLineFlag)) return hi | (t.t0 + tris(k).prim + 1);
-  const uint64_t it = k & ~kLineFlag, Lr = t.Lr, Pr = t.Pr, Tr = t.Tr;
+  if (!(k & kLineFlag)) return hi | (globalTri(t, tris(k).prim) + 1);
+  const uint64_t it = k & ~kLineFlag, Lr = t.Lr, Pr = t.Pr, Tl = t.Tl;
   uint64_t g;
-  if (it < Lr) g = t.l0 + it;
-  else if (it < Lr + Pr) g = t.L + t.p0 + (it - Lr);
-  else if (it < Lr + Pr + 3 * Tr) g = t.L + t.P + 3 * t.t0 + (it - Lr - Pr);
-  else g = t.L + t.P + 3 * t.T + 3 * t.t0 + (it - Lr - Pr - 3 * Tr);
+  if (it < Lr) {
+    g = t.l0 + it;
+  } else if (it < Lr + Pr) {
+    g = t.L + t.p0 + (it - Lr);
+  } else {
+    const bool edge = it < Lr + Pr + 3 * Tl;
+    const uint64_t e = it - Lr - Pr - (edge ? 0 : 3 * Tl);
+    g = t.L + t.P + (edge ? 0 : 3 * t.T) + 3 * globalTri(t, e / 3) + e % 3;
+  }
   return hi | ((uint64_t(kLineFlag) | g) + 1);
 }
 
-// A rank's primitive id (shade's output: triangles, then segments, then
+// A rank's primitive id (shade's output: local triangles, then segments, then
 // points, from 1) made global.
 KOKKOS_INLINE_FUNCTION uint32_t globalId(const ShareTables& t, uint32_t v) {
   if (v == 0) return 0;
-  if (v <= t.Tr) return uint32_t(t.t0 + v);
-  if (v <= t.Tr + t.Lr) return uint32_t(t.T + t.l0 + (v - t.Tr));
-  return uint32_t(t.T + t.L + t.p0 + (v - t.Tr - t.Lr));
+  if (v <= t.Tl) return uint32_t(globalTri(t, v - 1) + 1);
+  if (v <= t.Tl + t.Lr) return uint32_t(t.T + t.l0 + (v - t.Tl));
+  return uint32_t(t.T + t.L + t.p0 + (v - t.Tl - t.Lr));
 }
 
 DView<uint64_t> startTable(const char* name, const std::vector<ShareRange>& s, uint64_t ShareRange::*first,
@@ -75,7 +94,9 @@ DView<uint64_t> startTable(const char* name, const std::vector<ShareRange>& s, u
 
 }  // namespace
 
-SortLast::SortLast(const std::vector<ShareRange>& shares, int me) {
+SortLast::SortLast(const std::vector<ShareRange>& shares, int me, const std::vector<TriRun>& blendWhole,
+                   bool sceneBlends)
+    : sceneBlends_(sceneBlends) {
   if (shares.empty() || me < 0 || me >= int(shares.size())) throw Error("internal: sort-last rank outside its shares");
   ShareTables& t = tables_;
   t.ranks = int(shares.size());
@@ -92,6 +113,23 @@ SortLast::SortLast(const std::vector<ShareRange>& shares, int me) {
   t.Tr = uint32_t(mine.t1 - mine.t0);
   t.Lr = uint32_t(mine.l1 - mine.l0);
   t.Pr = uint32_t(mine.p1 - mine.p0);
+  uint64_t Tl = t.Tr;
+  std::vector<uint64_t> local, global;
+  for (const TriRun& r : blendWhole) {
+    if (r.local != Tl || me != 0) throw Error("internal: BLEND triangles held whole out of order");
+    local.push_back(r.local);
+    global.push_back(r.global);
+    Tl += r.count;
+  }
+  t.Tl = uint32_t(Tl);
+  t.runs = int(local.size());
+  if (t.runs > 0) {
+    t.runLocal = allocUninit<uint64_t>("composite.runLocal", local.size());
+    t.runGlobal = allocUninit<uint64_t>("composite.runGlobal", global.size());
+    using H = Kokkos::View<uint64_t*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+    Kokkos::deep_copy(t.runLocal, H(local.data(), local.size()));
+    Kokkos::deep_copy(t.runGlobal, H(global.data(), global.size()));
+  }
   t.tStart = startTable("composite.tStart", shares, &ShareRange::t0, &ShareRange::t1);
   t.lStart = startTable("composite.lStart", shares, &ShareRange::l0, &ShareRange::l1);
   t.pStart = startTable("composite.pStart", shares, &ShareRange::p0, &ShareRange::p1);
@@ -108,6 +146,7 @@ uint64_t SortLast::frameBytes(int width, int height, int samples) const {
   uint64_t b = ns * 8 + n;
   if (samples > 1) b += n * 4;
   if (kOnDevice && !nccl_) b += ns * 8 + n * sizeof(float4);  // hostKeys_, hostWords_ (the largest merged buffer)
+  b += uint64_t(tables_.runs) * 2 * sizeof(uint64_t);  // rank 0's runs of BLEND triangles held whole
   return b;
 }
 

@@ -11,7 +11,9 @@
 // owners into sample slots, and resolved on rank 0 in the single-device
 // order (mixed_samples.cpp). Per execution space; the collective steps are
 // host/distributed/ranks.h, staged through host memory, or NCCL on GPUs
-// (nccl_composite.h) where the build has it.
+// (nccl_composite.h) where the build has it. glTF BLEND surfaces are
+// composited by rank 0 alone, which holds every BLEND draw whole, over the
+// merged opaque film and the composited keys' depth (docs/distributed.md).
 #pragma once
 
 #include "host/distributed/scene_share.h"
@@ -36,6 +38,12 @@ struct ShareTables {
   uint64_t T = 0, L = 0, P = 0;      // the whole scene's triangles, segments, points
   uint64_t t0 = 0, l0 = 0, p0 = 0;   // this rank's first of each
   uint32_t Tr = 0, Lr = 0, Pr = 0;   // this rank's counts
+  // This rank's local triangles: its range's Tr, then (rank 0 of a scene with
+  // BLEND draws) the BLEND triangles it holds whole beyond them, runs of
+  // consecutive global triangles starting at runLocal(j) (scene_share.h).
+  uint32_t Tl = 0;
+  int runs = 0;
+  DView<uint64_t> runLocal, runGlobal;
 };
 
 // What mixed MSAA pixels carry to rank 0 (mixed_samples.cpp).
@@ -48,7 +56,10 @@ struct MixedSamples {
 
 class SortLast : public FrameSplit {
  public:
-  SortLast(const std::vector<ShareRange>& shares, int me);
+  // blendWhole: rank 0's BLEND triangles beyond its range (takeShare);
+  // sceneBlends: the whole scene draws BLEND triangles (drawsBlend).
+  SortLast(const std::vector<ShareRange>& shares, int me, const std::vector<TriRun>& blendWhole = {},
+           bool sceneBlends = false);
   ~SortLast() override;
 
   void agree(const std::string& error) override;
@@ -58,8 +69,11 @@ class SortLast : public FrameSplit {
   void afterShade(const DeviceScene& s, FrameBuffers& f, const FramePlan& plan, const DView<LightGPU>& lights,
                   StageTimer* timer) override;
   bool holdsFrame() const override { return tables_.me == 0; }
+  bool sceneBlends() const override { return sceneBlends_; }
+  bool blendsHere() const override { return sceneBlends_ && tables_.me == 0; }
+  const DView<uint64_t>& compositedKeys() const override { return global_; }
   // The composited keys and the ownership flags, their host staging on GPUs
-  // without NCCL, and MSAA's mixed index (its slots, sized by the frame, are not
+  // without NCCL, the runs of BLEND triangles held whole, and MSAA's mixed index (its slots, sized by the frame, are not
   // known before it).
   uint64_t frameBytes(int width, int height, int samples) const override;
 
@@ -80,6 +94,7 @@ class SortLast : public FrameSplit {
   std::unique_ptr<NcclComposite> nccl_;
 
   ShareTables tables_;
+  bool sceneBlends_ = false;
   DView<uint64_t> global_;  // the composited keys (n * samples)
   DView<uint8_t> flag_;     // per pixel: 0 another rank's, 1 this rank's, 2 mixed (MSAA)
   MixedSamples mixed_;

@@ -130,11 +130,11 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // MASK and BLEND triangles (filled only): their passes, and BLEND's
   // compositing in linear light on the film.
   p.blend.mask = in.scene->hasMask && p.fill;
-  p.blend.blend = in.scene->hasBlend && p.fill;
+  p.blend.blend = in.blendPasses && p.fill;
   p.blend.method = chooseTransparency(rs, in.blendFallback);
   p.blend.k = rs.blendK;
   // A transparent background (alpha < 1): the film keeps alpha, premultiplied.
-  p.film = p.film || p.blend.blend || rs.background.w < 1.0f;
+  p.film = p.film || (in.blendFilm && p.fill) || rs.background.w < 1.0f;
   p.lines = makeLinePass(*in.scene, rs);
   p.shadeParams = shadeParamsFor(rs, f, p);
   // On the CPU the binned raster can shade each tile as it finishes: the

@@ -76,6 +76,9 @@ struct PlanInputs {
   bool supersampling = false;  // a pass of a supersampled frame: film, no post chain
   bool blendFallback = false;  // the exact fragment store would exceed the memory budget: kbuffer
   bool keepKeys = false;       // a split frame (renderer.h): keys are exchanged before shading, never fused
+  // BLEND (renderer.h): this renderer runs the passes; frames render to the
+  // film for them (under a split, on every part when the whole scene blends).
+  bool blendPasses = false, blendFilm = false;
 };
 
 // The transparency method a frame uses (never Auto): `auto` takes exact (the

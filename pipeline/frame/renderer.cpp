@@ -109,8 +109,8 @@ void Renderer::checkFrameBudget(const RenderSettings& rs) const {
   if (rs.wantPrimId) perPixel += 4;
   if (rs.wantNormals) perPixel += 12;
   if (super) perPixel += sizeof(float4);                           // supersampling accumulator
-  if (super || rs.post.needsFloat() || scene_.hasBlend) perPixel += sizeof(float4);   // the float film
-  if (scene_.hasBlend) {  // the transparency method's fixed buffers (its fragment store: lastFrameFit)
+  if (super || rs.post.needsFloat() || blendFilm()) perPixel += sizeof(float4);   // the float film
+  if (blendPasses()) {  // the transparency method's fixed buffers (its fragment store: lastFrameFit)
     BlendPlan b;
     b.method = chooseTransparency(rs, blendFallback_);
     b.k = rs.blendK;
@@ -136,13 +136,6 @@ void Renderer::checkFrameBudget(const RenderSettings& rs) const {
 }
 
 void Renderer::prepare(const RenderSettings& rs) {
-  // A split (sort-last) composites opaque keys only: each part would blend
-  // its own share of the BLEND triangles over a depth that holds only the
-  // pixels it owns, a wrong image. Refused, on every part (the split agrees).
-  if (split_ && scene_.hasBlend)
-    throw Error("alphaMode BLEND is not supported under a sort-last split (--distribute) yet: this part of the "
-                "scene draws BLEND triangles, which the ranks would composite wrongly; render it in one process "
-                "(docs/transparency.md)");
   if (rs.width < 1 || rs.height < 1 || rs.width > kMaxFramebufferSide || rs.height > kMaxFramebufferSide)
     throw Error("image size " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " is outside 1.." +
                 std::to_string(kMaxFramebufferSide) + " per side");
@@ -165,7 +158,7 @@ void Renderer::prepare(const RenderSettings& rs) {
     frame_.blend.release();
   }
   if (!supersampling_)
-    frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference || scene_.hasBlend, rs.post.ssao, rs.post.bloom);
+    frame_.post.trim(rs.post.needsFloat() || rs.ssaa > 1 || rs.reference || blendFilm(), rs.post.ssao, rs.post.bloom);
   // Mipmaps are built the first time a frame needs them.
   const bool wantMips = rs.filter == TexFilter::Trilinear || rs.shading == ShadingMode::MipLevel ||
                         (rs.filter == TexFilter::Auto && readsGltfMaterial(rs.shading));
@@ -254,6 +247,8 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
   in.supersampling = supersampling_;
   in.blendFallback = blendFallback_;
   in.keepKeys = split_ != nullptr;
+  in.blendPasses = blendPasses();
+  in.blendFilm = blendFilm();
   plan_ = planFrame(rs, in);
   plan_.shadeParams.useEnv = rs.shading == ShadingMode::Pbr && rs.environment != "none" && env_.valid() ? 1 : 0;
   if (plan_.shadeParams.useEnv) plan_.shadeParams.env = env_;
@@ -335,7 +330,8 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   // BLEND fragments in front of the opaque depth, before shading clears it.
   if (plan.blend.blend) {
     Kokkos::Profiling::pushRegion("rast::blend");
-    blendCollect(scene_, frame_, plan.shadeParams, lights_, plan.blend);
+    // Split: the composited keys hold the whole scene's opaque depth.
+    blendCollect(scene_, frame_, plan.shadeParams, lights_, plan.blend, split_ ? split_->compositedKeys() : frame_.vis);
     Kokkos::Profiling::popRegion();
     if (timer) timer->mark("blend");
   }

@@ -62,6 +62,16 @@ class FrameSplit {
                           StageTimer* timer) = 0;
   // Whether this part holds the merged frame (and runs the post chain on it).
   virtual bool holdsFrame() const = 0;
+  // glTF BLEND (docs/distributed.md): whether the whole scene draws BLEND
+  // triangles (then every part renders to the float film, which the merge
+  // combines), and whether this part composites them: the part that holds
+  // the frame, with every BLEND draw whole, over the merged opaque film. The
+  // others keep theirs marked (skipped by the raster) and run no BLEND pass.
+  virtual bool sceneBlends() const = 0;
+  virtual bool blendsHere() const = 0;
+  // After afterRaster: every sample's composited key, whose depth bits are the
+  // whole scene's opaque depth (this part's own keys hold only its pixels).
+  virtual const DView<uint64_t>& compositedKeys() const = 0;
   // Bytes its own buffers take for a frame of this size (charged with the frame's).
   virtual uint64_t frameBytes(int width, int height, int samples) const = 0;
 };
@@ -144,6 +154,10 @@ class Renderer {
   void launchFrame(const FramePlan& plan, StageTimer* timer);
   // Throws a one-line Error when the frame buffers for rs would not fit the budget.
   void checkFrameBudget(const RenderSettings& rs) const;
+  // BLEND: whether frames render to the float film for it (the whole scene's
+  // BLEND under a split), and whether this renderer runs its passes.
+  bool blendFilm() const { return split_ ? split_->sceneBlends() : scene_.hasBlend; }
+  bool blendPasses() const { return split_ ? split_->blendsHere() : scene_.hasBlend; }
 
   uint64_t budget_;  // before scene_: the upload is checked against it
   // The caller's host Scene, alive while it renders: on the same budget.

@@ -6,7 +6,8 @@
 #
 #   bash scripts/device/distributed_scale.sh [RAST] [OUTDIR]   (default .device/cuda/rast, $OUT or ./device-out)
 #
-# 0. identity: image, depth and ids of 2 and 4 ranks (NCCL and MPI) against one process;
+# 0. identity: image, depth and ids of 2 and 4 ranks (NCCL and MPI) against one process,
+#    BLEND scenes (exact, sorted, kbuffer) included;
 # 1. composite: `rast bench --distribute` at 1920x1080 on 1, 2 and 4 ranks of a
 #    small scene: the `composite` and `merge` stages are the exchange per frame,
 #    over NCCL (found in the PyTorch environment) and over MPI (RAST_COMPOSITE=mpi);
@@ -46,7 +47,13 @@ export RAST_COMPOSITE=${RAST_COMPOSITE:-auto}
 # 0. identity on the GPUs: sort-last over NCCL and over MPI against one process.
 idir=$out/identity
 mkdir -p "$idir"
-for spec in "builtin:default --aa none" "builtin:default --aa msaa4" "builtin:tiny?n=2000000 --raster visbuffer" "builtin:lines?n=100000"; do
+# glTF BLEND (docs/distributed.md, "Transparency"): layers_occluded has an opaque quad through the
+# layers that the last rank draws.
+python3 "$root/scripts/measure/blend_scenes.py" "$idir/blend" > /dev/null
+for spec in "builtin:default --aa none" "builtin:default --aa msaa4" "builtin:tiny?n=2000000 --raster visbuffer" "builtin:lines?n=100000" \
+    "builtin:layers?n=8&mixed=1 --shading pbr --transparency exact" \
+    "$idir/blend/layers_occluded.gltf --shading pbr --transparency sorted --aa msaa4" \
+    "$idir/blend/layers_occluded.gltf --transparency kbuffer"; do
   set -- $spec
   scene=$1; shift
   "$rast" render "$scene" --size 1920x1080 "$@" -o "$idir/one.png" --aov "depth=$idir/one_d.npy,primid=$idir/one_i.npy" > /dev/null 2>&1
@@ -69,6 +76,11 @@ for n in 1 2 4; do
   run "$n" composite bench builtin:default --size 1920x1080 --frames "$frames" --distribute --json "$out/dist_composite_$n.json"
   RAST_COMPOSITE=mpi run "$n" composite-mpi bench builtin:default --size 1920x1080 --frames "$frames" --distribute \
     --json "$out/dist_composite_mpi_$n.json"
+done
+# BLEND: rank 0 composites every BLEND fragment (the others none): the blend stages do not scale.
+for n in 1 2; do
+  run "$n" blend bench 'builtin:layers?n=8&mixed=1' --size 1920x1080 --frames "$frames" --transparency exact --distribute \
+    --json "$out/dist_blend_$n.json"
 done
 for n in 1 2 4; do
   run "$n" strong bench 'builtin:tiny?n=100000000' --size 1920x1080 --frames "$frames" --distribute --json "$out/dist_strong_$n.json"

@@ -7,9 +7,12 @@ writes the same kind of scene directly: an opaque red backdrop and n unlit
 BLEND quads of mixed colours and alphas in front of it, each quad its own
 node (the Sample Renderer sorts transparent primitives by their centre's
 depth, as `--transparency sorted` does), parallel, or with neighbours tilted
-opposite ways so that they intersect, or all at one depth (coplanar).
+opposite ways so that they intersect, or all at one depth (coplanar); and
+the intersecting layers with an opaque grey quad drawn after them that cuts
+through their right half (occluded: BLEND fragments behind opaque ones, whose
+triangles come last, as under a sort-last split the last rank holds them).
 
-  scripts/measure/blend_scenes.py OUT_DIR    # writes layers_{parallel,intersecting,coplanar}.gltf
+  scripts/measure/blend_scenes.py OUT_DIR    # writes layers_{parallel,intersecting,coplanar,occluded}.gltf
   scripts/measure/blend_scenes.py OUT_DIR --full-screen
       # also fullscreen_{0,8_mixed,64_alpha0.1}.gltf: builtin:layers?n=0, ?n=8&mixed=1 and
       # ?n=64&alpha=0.1 (scenes/transparency_scenes.cpp) quad for quad, colour for colour,
@@ -42,18 +45,18 @@ FULL_SCREEN = [("fullscreen_0", 0, 0.5, False), ("fullscreen_8_mixed", 8, 0.5, T
                ("fullscreen_64_alpha0.1", 64, 0.1, False)]
 
 
-def scene(n, tilt, equal, full_screen=None):
+def scene(n, tilt, equal, full_screen=None, occluder=False):
     pos, idx, nodes, meshes, materials, accessors, views = [], [], [], [], [], [], []
     blob = bytearray()
 
-    def quad(z0, slope, half_w, half_h, colour, alpha, blend):
-        # Four corners, z = z0 + slope * x (a tilt about the vertical axis).
-        corners = [(-half_w, -half_h), (half_w, -half_h), (half_w, half_h), (-half_w, half_h)]
+    def quad(z0, slope, half_w, half_h, colour, alpha, blend, cx=0.0):
+        # Four corners, z = z0 + slope * x (a tilt about the vertical axis), centred on x = cx.
+        corners = [(cx - half_w, -half_h), (cx + half_w, -half_h), (cx + half_w, half_h), (cx - half_w, half_h)]
         p = b"".join(struct.pack("<3f", x, y, z0 + slope * x) for x, y in corners)
         i = struct.pack("<6H", 0, 1, 2, 0, 2, 3)
         zs = [z0 + slope * x for x, _ in corners]
-        for data, count, kind, comp, extra in ((p, 4, "VEC3", 5126, {"min": [-half_w, -half_h, min(zs)],
-                                                                         "max": [half_w, half_h, max(zs)]}),
+        for data, count, kind, comp, extra in ((p, 4, "VEC3", 5126, {"min": [cx - half_w, -half_h, min(zs)],
+                                                                         "max": [cx + half_w, half_h, max(zs)]}),
                                                 (i, 6, "SCALAR", 5123, {})):
             while len(blob) % 4:
                 blob.append(0)
@@ -89,6 +92,8 @@ def scene(n, tilt, equal, full_screen=None):
         slope = (0.08 if layer % 2 else -0.08) if tilt else 0.0
         alpha = 0.3 + 0.5 * ((layer * 3) % 7) / 6.0
         quad(z, slope, HALF_W, HALF_H, COLOURS[layer % len(COLOURS)], alpha, True)
+    if occluder:  # opaque, through the middle of the stack, tilted across it, over the right half
+        quad(-0.45, 0.4, HALF_W * 0.6, HALF_H * 0.8, (0.5, 0.5, 0.5), 1.0, False, cx=HALF_W * 0.5)
     return {"asset": {"version": "2.0", "generator": "rast scripts/measure/blend_scenes.py"},
             "extensionsUsed": ["KHR_materials_unlit"], "scene": 0,
             "scenes": [{"nodes": list(range(len(nodes)))}], "nodes": nodes, "meshes": meshes,
@@ -101,10 +106,10 @@ def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "."
     os.makedirs(out, exist_ok=True)
     for name, n, tilt, equal in (("parallel", 8, False, False), ("intersecting", 8, True, False),
-                                 ("coplanar", 6, False, True)):
+                                 ("coplanar", 6, False, True), ("occluded", 8, True, False)):
         path = os.path.join(out, f"layers_{name}.gltf")
         with open(path, "w") as f:
-            json.dump(scene(n, tilt, equal), f)
+            json.dump(scene(n, tilt, equal, occluder=name == "occluded"), f)
         print(path)
     if "--full-screen" in sys.argv[2:]:
         for name, n, alpha, mixed in FULL_SCREEN:

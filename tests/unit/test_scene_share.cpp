@@ -1,7 +1,9 @@
 // Sort-last cuts a scene by geometry (host/distributed/scene_share.h): every
 // drawn triangle, segment and point must land in exactly one rank's share, in
 // the whole scene's order and in the same world position, so that global ids
-// are a rank's ids plus its offset; and a camera list file's entries must be
+// are a rank's ids plus its offset; the first share keeps glTF BLEND draws
+// whole, the triangles it adds numbered after its range and mapped to global
+// ids by its runs (rank 0 composites BLEND surfaces); and a camera list file's entries must be
 // the cameras their keys say (host/scene/camera_list.h).
 #include <catch2/catch.hpp>
 
@@ -63,8 +65,8 @@ TEST_CASE("shares are contiguous, balanced and cover everything once", "[distrib
     CHECK(sh.back().t1 == 10);
     CHECK(sh.back().l1 == 3);
     for (int r = 0; r < ranks; ++r) {
-      CHECK(sh[r].t1 - sh[r].t0 >= 10 / ranks);
-      CHECK(sh[r].t1 - sh[r].t0 <= 10 / ranks + 1);
+      CHECK(sh[r].t1 - sh[r].t0 >= uint64_t(10 / ranks));
+      CHECK(sh[r].t1 - sh[r].t0 <= uint64_t(10 / ranks + 1));
       if (r > 0) CHECK(sh[r].t0 == sh[r - 1].t1);
       if (r > 0) CHECK(sh[r].l0 == sh[r - 1].l1);
     }
@@ -96,6 +98,58 @@ TEST_CASE("a scene's shares draw its primitives in order, in place, once", "[dis
   const Scene whole = takeShare(full, planShares(10, 3, 2, 1)[0]);
   CHECK(whole.prims.size() == 3);
   CHECK(whole.draws.size() == 4);
+}
+
+TEST_CASE("the first share keeps BLEND draws whole; its added triangles map to global ids", "[distributed]") {
+  // Opaque fan (5), BLEND fan (5, with a vertex no triangle uses), opaque fan again, BLEND fan again, lines.
+  Scene full = mixedScene();
+  Material blend;
+  blend.alphaMode = AlphaMode::Blend;
+  full.materials.push_back(blend);
+  std::vector<rast::float3> fan = {{0, 0, 2}, {9, 9, 9}};
+  std::vector<uint32_t> idx;
+  for (int k = 0; k < 6; ++k) fan.push_back({float(k), 1.0f + float(k % 3), 2});
+  for (uint32_t k = 0; k < 5; ++k) idx.insert(idx.end(), {0, k + 2, k + 3});
+  const std::vector<rast::float3> up(fan.size(), rast::float3{0, 0, 1});  // with normals: the vertices as given
+  const uint32_t glass = addPrim(full, fan, &up, nullptr, nullptr, idx, 0);
+  full.draws.insert(full.draws.begin() + 1, Draw{glass, glm::dmat4(1.0)});
+  full.draws.push_back(Draw{glass, glm::translate(glm::dmat4(1.0), glm::dvec3(0, 5, 0))});
+  REQUIRE(full.triangleCount() == 20);
+  CHECK(drawsBlend(full));
+  CHECK(!drawsBlend(mixedScene()));
+  const std::vector<glm::dvec3> all = drawn(full, 0);
+  for (int ranks : {2, 3, 4, 7}) {
+    const auto sh = planShares(full.triangleCount(), full.lineCount(), full.pointCount(), ranks);
+    std::vector<TriRun> runs;
+    const Scene first = takeShare(full, sh[0], &runs);
+    REQUIRE_NOTHROW(first.validate());
+    const std::vector<glm::dvec3> mine = drawn(first, 0);
+    // Its range in place, then the added BLEND triangles, in order, where the runs say.
+    const uint64_t Tr = sh[0].t1;
+    uint64_t local = Tr, blendTris = 0;
+    for (uint64_t t = 0; t < Tr; ++t)
+      for (int c = 0; c < 3; ++c) CHECK(mine[3 * t + c] == all[3 * t + c]);
+    for (const TriRun& r : runs) {
+      CHECK(r.local == local);
+      CHECK(r.global >= Tr);
+      for (uint64_t k = 0; k < r.count; ++k)
+        for (int c = 0; c < 3; ++c) CHECK(mine[3 * (r.local + k) + c] == all[3 * (r.global + k) + c]);
+      local += r.count;
+    }
+    CHECK(local == first.triangleCount());
+    // Every BLEND triangle is there (10), with all of its primitive's vertices (the centre's box).
+    for (const Draw& d : first.draws)
+      if (isBlendDraw(first, d)) {
+        blendTris += first.prims[d.prim].triCount;
+        CHECK(first.prims[d.prim].vertexCount == 8);
+      }
+    CHECK(blendTris == 10);
+    CHECK(first.lineCount() == sh[0].l1 - sh[0].l0);
+    // The other shares are cut as without BLEND.
+    CHECK(takeShare(full, sh[1]).triangleCount() == sh[1].t1 - sh[1].t0);
+  }
+  std::vector<TriRun> runs;
+  CHECK_THROWS_AS(takeShare(full, planShares(20, 3, 2, 2)[1], &runs), Error);
 }
 
 TEST_CASE("camera lists: flag keys, defaults from the base camera, NeRF frames", "[distributed]") {
