@@ -278,8 +278,11 @@ TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer and say
   }
   // 1024 layers over 128x64 pixels: 4 bytes a (layer, 8x8 block) make lists
   // of about 600 KB, more than a k-buffer of one key (28 bytes a pixel,
-  // 230 KB). A budget a byte short of exact's need: the lists do not fit, the
-  // k-buffer does. (Opaque layers: exact stops after the first.)
+  // 230 KB). A budget halfway between exact's bytes and kbuffer's: the
+  // lists do not fit, the k-buffer does. (Opaque layers: exact stops after
+  // the first.) Not a byte short of exact's final bytes: on the H100 that
+  // still let the lists grow, as their check counts the bytes held at that
+  // point of the frame (Renderer::render), not the frame's final ones.
   const Scene s = builtinScene("builtin:layers?n=1024&alpha=1");
   RenderSettings rs = small(128, 64);
   rs.transparency = Transparency::Exact;
@@ -292,7 +295,10 @@ TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer and say
   const std::vector<rast::float4> kbuf = film(s, k, &kb);
   INFO("exact " << ex.deviceBytes << " bytes, kbuffer " << kb.deviceBytes);
   REQUIRE(ex.deviceBytes > kb.deviceBytes + 100000);
-  const std::vector<rast::float4> f = film(s, rs, &tight, ex.deviceBytes - 1);
+  const uint64_t budget = (ex.deviceBytes + kb.deviceBytes) / 2;
+  const std::vector<rast::float4> f = film(s, rs, &tight, budget);
+  INFO("budget " << budget << " bytes, the fallen-back frame " << tight.deviceBytes);
+  CHECK(tight.deviceBytes <= budget);
   CHECK(tight.blendFallback);
   CHECK(tight.transparency == Transparency::KBuffer);
   CHECK(maxDiff(f, kbuf) < 1e-5);  // the merged rest is summed with float atomics: any order
