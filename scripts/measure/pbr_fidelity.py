@@ -8,11 +8,16 @@ has none (KHR_lights_punctual, so that both renderers light it the same way),
 rendered by rast from its own auto-framed camera and by
 ../shared/tools/khronos-ref from the same camera flags, then compared with
 ../shared/tools/khronos-ref/fidelity.py. The reference runs once for all
-models (its start-up filters an environment: minutes on 2 cores).
+models (its start-up filters an environment: minutes on 2 cores); with
+--env once per model, unless --one-context (below).
+
+--one-context runs a copy of the reference (in OUT) whose page keeps one
+WebGL context for the batch, so that with --env too all models share one
+start-up; see one_context_kref.
 
   scripts/measure/pbr_fidelity.py --rast build/openmp/rast --out /tmp/fid \\
       [--size 480x360] [--env FILE.hdr --tonemap pbr-neutral] [--extra-flags "..."]
-      [--samplers nomip|mipnear] [--by-material [--group LABEL=REGEX]... [--self-shift PX]] MODEL...
+      [--one-context] [--samplers nomip|mipnear] [--by-material [--group LABEL=REGEX]... [--self-shift PX]] MODEL...
 
 --samplers changes the copies' samplers, both renderers drawing the same
 copy (docs/gltf-support.md, "Mipmaps and anisotropy"): `nomip` sets every
@@ -280,6 +285,42 @@ def material_table(a, row):
         line(f"**{label}**", sel)
 
 
+def one_context_kref(out):
+    """--one-context: a copy of khronos-ref in OUT whose page keeps one WebGL
+    context for a whole batch. As shipped the page makes a context per scene
+    but keeps the environment it filtered in the first one, whose textures the
+    later contexts cannot use: with --env a batch drew only its first scene
+    right. With one context a batch's scenes match runs of their own to the
+    bit (docs/gltf-support.md, "glTF-Asset-Generator's primitive modes")."""
+    dst = os.path.join(out, "khronos-ref-one-context")
+    os.makedirs(dst, exist_ok=True)
+    for f in ("khronos_ref.mjs", "black.hdr"):
+        shutil.copyfile(os.path.join(KREF, f), os.path.join(dst, f))
+    page = open(os.path.join(KREF, "page.html")).read()
+    old = """  const canvas = document.createElement('canvas');
+  canvas.width = p.width; canvas.height = p.height;
+  document.body.replaceChildren(canvas);
+  const gl = canvas.getContext('webgl2', { alpha: true, antialias: !!p.antialias, preserveDrawingBuffer: true });
+  const view = new GltfView(gl);
+  const state = view.createState();
+  const loader = new ResourceLoader(view);"""
+    new = """  if (!window.ctx || ctx.w !== p.width || ctx.h !== p.height || ctx.aa !== !!p.antialias) {
+    const canvas = document.createElement('canvas');
+    canvas.width = p.width; canvas.height = p.height;
+    document.body.replaceChildren(canvas);
+    const gl = canvas.getContext('webgl2', { alpha: true, antialias: !!p.antialias, preserveDrawingBuffer: true });
+    const view = new GltfView(gl);
+    window.ctx = { w: p.width, h: p.height, aa: !!p.antialias, canvas, view, loader: new ResourceLoader(view) };
+    envs.clear();
+  }
+  const canvas = ctx.canvas, view = ctx.view, loader = ctx.loader;
+  const state = view.createState();"""
+    if old not in page:
+        raise SystemExit("pbr_fidelity: --one-context does not know this khronos-ref page.html")
+    open(os.path.join(dst, "page.html"), "w").write(page.replace(old, new))
+    return os.path.join(dst, "khronos_ref.mjs")
+
+
 def covered_both(ref_png, test_png):
     """Points and lines one pixel wide have no interior (fidelity.py erodes it
     away): the pixels both images cover, not eroded, and how far their colours
@@ -415,6 +456,8 @@ def main():
     ap.add_argument("--extra-flags", default="", help="more rast render flags")
     ap.add_argument("--skip-ref", action="store_true", help="reuse OUT/*.ref.png")
     ap.add_argument("--no-added-light", action="store_true", help="add no light to files without any (with --env)")
+    ap.add_argument("--one-context", action="store_true",
+                    help="with --env, one reference run for all models, its page keeping one WebGL context (above)")
     ap.add_argument("--samplers", choices=["nomip", "mipnear"], help="change every sampler of the copies (above)")
     ap.add_argument("--by-material", action="store_true", help="where the disagreement lies, material by material")
     ap.add_argument("--group", action="append", default=[], help="with --by-material: a row LABEL for names matching REGEX")
@@ -463,13 +506,16 @@ def main():
         # One batch shares the reference's start-up; with an environment a
         # batch drew only its first scene right (the later ones came out
         # unlit or empty, 2026-11-26), so then each scene runs on its own.
-        groups = [[j] for j in jobs] if a.env else [jobs]
+        # --one-context: a copy of the reference that keeps one WebGL context,
+        # whose batches draw every scene right (one_context_kref).
+        groups = [[j] for j in jobs] if a.env and not a.one_context else [jobs]
+        kref = one_context_kref(a.out) if a.one_context else os.path.join(KREF, "khronos_ref.mjs")
         for k, group in enumerate(groups):
             batch = os.path.join(a.out, f"jobs{k}.jsonl")
             with open(batch, "w") as f:
                 for j in group:
                     f.write(json.dumps(j) + "\n")
-            subprocess.run(["node", os.path.join(KREF, "khronos_ref.mjs"), "--batch", batch], check=False)
+            subprocess.run(["node", kref, "--batch", batch], check=False)
     print("| model | interior px | within 3/255 | within 8/255 | mean diff /255 | gamma 2.2: within 3 | within 8 | mean diff | coverage IoU |")
     print("|---|---|---|---|---|---|---|---|---|")
     for row in rows:
