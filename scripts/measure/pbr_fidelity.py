@@ -534,7 +534,8 @@ def main():
         write_gamma22_png(row["rast"].replace(".png", ".pfm"), g22)
         g = fidelity(g22)
         row["srgb"], row["gamma22"] = f, g
-        print(f"| {row['model']}{'' if row['light_added'] else ' (own lights)'} | {f['interior']} | {f['within3']:.3f} | "
+        own = bool(read_gltf(row["source"])[0].get("extensions", {}).get("KHR_lights_punctual", {}).get("lights"))
+        print(f"| {row['model']}{' (own lights)' if own else ''} | {f['interior']} | {f['within3']:.3f} | "
               f"{f['within8']:.3f} | {f['mae']:.2f} | {g['within3']:.3f} | {g['within8']:.3f} | {g['mae']:.2f} | "
               f"{f['coverage_iou']:.3f} |")
         if f["interior"] == 0:
