@@ -8,11 +8,16 @@ has none (KHR_lights_punctual, so that both renderers light it the same way),
 rendered by rast from its own auto-framed camera and by
 ../shared/tools/khronos-ref from the same camera flags, then compared with
 ../shared/tools/khronos-ref/fidelity.py. The reference runs once for all
-models (its start-up filters an environment: minutes on 2 cores).
+models (its start-up filters an environment: minutes on 2 cores); with
+--env once per model, unless --one-context (below).
+
+--one-context runs a copy of the reference (in OUT) whose page keeps one
+WebGL context for the batch, so that with --env too all models share one
+start-up; see one_context_kref.
 
   scripts/measure/pbr_fidelity.py --rast build/openmp/rast --out /tmp/fid \\
       [--size 480x360] [--env FILE.hdr --tonemap pbr-neutral] [--extra-flags "..."]
-      [--samplers nomip|mipnear] [--by-material [--group LABEL=REGEX]... [--self-shift PX]] MODEL...
+      [--one-context] [--samplers nomip|mipnear] [--by-material [--group LABEL=REGEX]... [--self-shift PX]] MODEL...
 
 --samplers changes the copies' samplers, both renderers drawing the same
 copy (docs/gltf-support.md, "Mipmaps and anisotropy"): `nomip` sets every
@@ -34,7 +39,10 @@ pixel depends on where exactly it samples the surface (docs/gltf-support.md,
 "ClearCoatTest, part by part").
 
 Writes OUT/<name>.rast.png, OUT/<name>.ref.png and OUT/fidelity.json, and
-prints a Markdown table. The reference encodes its output with a 2.2 power
+prints a Markdown table; models with no interior (points and lines one pixel
+wide, which the erosion removes) get a second table over the pixels both
+renderers cover, not eroded, and a third that tells their coverage apart
+by simulating it with the reference's subpixel precision and with rast's. The reference encodes its output with a 2.2 power
 curve where rast writes the sRGB curve (both clamp at 1): the table gives the
 figures for rast's PNG and, in the `gamma 2.2` columns, for rast's linear
 output (`-o F.pfm`) encoded the reference's way, which separates the
@@ -277,6 +285,165 @@ def material_table(a, row):
         line(f"**{label}**", sel)
 
 
+def one_context_kref(out):
+    """--one-context: a copy of khronos-ref in OUT whose page keeps one WebGL
+    context for a whole batch. As shipped the page makes a context per scene
+    but keeps the environment it filtered in the first one, whose textures the
+    later contexts cannot use: with --env a batch drew only its first scene
+    right. With one context a batch's scenes match runs of their own to the
+    bit (docs/gltf-support.md, "glTF-Asset-Generator's primitive modes")."""
+    dst = os.path.join(out, "khronos-ref-one-context")
+    os.makedirs(dst, exist_ok=True)
+    for f in ("khronos_ref.mjs", "black.hdr"):
+        shutil.copyfile(os.path.join(KREF, f), os.path.join(dst, f))
+    page = open(os.path.join(KREF, "page.html")).read()
+    old = """  const canvas = document.createElement('canvas');
+  canvas.width = p.width; canvas.height = p.height;
+  document.body.replaceChildren(canvas);
+  const gl = canvas.getContext('webgl2', { alpha: true, antialias: !!p.antialias, preserveDrawingBuffer: true });
+  const view = new GltfView(gl);
+  const state = view.createState();
+  const loader = new ResourceLoader(view);"""
+    new = """  if (!window.ctx || ctx.w !== p.width || ctx.h !== p.height || ctx.aa !== !!p.antialias) {
+    const canvas = document.createElement('canvas');
+    canvas.width = p.width; canvas.height = p.height;
+    document.body.replaceChildren(canvas);
+    const gl = canvas.getContext('webgl2', { alpha: true, antialias: !!p.antialias, preserveDrawingBuffer: true });
+    const view = new GltfView(gl);
+    window.ctx = { w: p.width, h: p.height, aa: !!p.antialias, canvas, view, loader: new ResourceLoader(view) };
+    envs.clear();
+  }
+  const canvas = ctx.canvas, view = ctx.view, loader = ctx.loader;
+  const state = view.createState();"""
+    if old not in page:
+        raise SystemExit("pbr_fidelity: --one-context does not know this khronos-ref page.html")
+    open(os.path.join(dst, "page.html"), "w").write(page.replace(old, new))
+    return os.path.join(dst, "khronos_ref.mjs")
+
+
+def covered_both(ref_png, test_png):
+    """Points and lines one pixel wide have no interior (fidelity.py erodes it
+    away): the pixels both images cover, not eroded, and how far their colours
+    differ, with each image's covered pixel count."""
+    import numpy as np
+    from PIL import Image
+    ref = np.asarray(Image.open(ref_png).convert("RGB")).astype(np.int64)
+    test = np.asarray(Image.open(test_png).convert("RGB")).astype(np.int64)
+    cr, ct = np.any(ref > 0, axis=2), np.any(test > 0, axis=2)
+    both = cr & ct
+    d = np.abs(ref - test)[both]
+    n = int(both.sum())
+    return {"ref_px": int(cr.sum()), "test_px": int(ct.sum()), "both_px": n,
+            "within3": float(np.mean(np.all(d <= 3, axis=1))) if n else 0.0,
+            "within8": float(np.mean(np.all(d <= 8, axis=1))) if n else 0.0,
+            "mae": float(d.mean()) if n else 0.0}
+
+
+def node_matrix(n):
+    """A glTF node's local matrix (column vectors), from `matrix` or T * R * S."""
+    import numpy as np
+    if "matrix" in n:
+        return np.array(n["matrix"], dtype=np.float64).reshape(4, 4).T
+    x, y, z, w = n.get("rotation", [0, 0, 0, 1])
+    r = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                  [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                  [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    m = np.eye(4)
+    m[:3, :3] = r * np.array(n.get("scale", [1, 1, 1]))
+    m[:3, 3] = n.get("translation", [0, 0, 0])
+    return m
+
+
+def snap_check(row, size):
+    """Points and lines: their pixels simulated from the file's positions and
+    the camera, window coordinates snapped to 1/16 pixel (4 subpixel bits, the
+    reference's SwiftShader) and to 1/256 (8 bits, rast); points as squares of
+    size 1, lines one pixel per column (x-major) or row at the pixel centre,
+    the pixels within one of a segment's ends left out (their rules differ).
+    Returns how many pixels each simulation gets wrong against each image."""
+    import numpy as np
+    from PIL import Image
+    doc, binary = read_gltf(row["source"])
+    folder = os.path.dirname(os.path.abspath(row["source"]))
+
+    def floats(i):
+        a = doc["accessors"][i]
+        v = doc["bufferViews"][a["bufferView"]]
+        b = binary if binary is not None else open(os.path.join(folder, doc["buffers"][v["buffer"]]["uri"]), "rb").read()
+        n = {"SCALAR": 1, "VEC3": 3}[a["type"]]
+        dt = {5126: "<f4", 5125: "<u4", 5123: "<u2", 5121: "u1"}[a["componentType"]]
+        stride = v.get("byteStride", 0) or n * np.dtype(dt).itemsize
+        raw = np.frombuffer(b, dtype=np.uint8, count=stride * (a["count"] - 1) + n * np.dtype(dt).itemsize,
+                            offset=v.get("byteOffset", 0) + a.get("byteOffset", 0))
+        return np.array([np.frombuffer(raw[k * stride:k * stride + n * np.dtype(dt).itemsize], dtype=dt)
+                         for k in range(a["count"])], dtype=np.float64)
+
+    segs, pts = [], []
+
+    def walk(i, parent):
+        m = parent @ node_matrix(doc["nodes"][i])
+        for p in doc["meshes"][doc["nodes"][i]["mesh"]]["primitives"] if "mesh" in doc["nodes"][i] else []:
+            pos = floats(p["attributes"]["POSITION"])
+            pos = (np.c_[pos, np.ones(len(pos))] @ m.T)[:, :3]
+            idx = floats(p["indices"])[:, 0].astype(int) if "indices" in p else np.arange(len(pos))
+            mode = p.get("mode", 4)
+            if mode == 0:
+                pts.extend(pos[idx])
+            elif mode in (1, 2, 3):
+                pairs = list(zip(idx[0::2], idx[1::2])) if mode == 1 else list(zip(idx[:-1], idx[1:]))
+                pairs += [(idx[-1], idx[0])] if mode == 2 else []
+                segs.extend((pos[a], pos[b]) for a, b in pairs)
+        for c in doc["nodes"][i].get("children", []):
+            walk(c, m)
+
+    for i in doc["scenes"][doc.get("scene", 0)]["nodes"]:
+        walk(i, np.eye(4))
+    flags = dict(zip(row["camera"][0::2], row["camera"][1::2]))
+    eye, target, up = (np.array([float(x) for x in flags[k].split(",")]) for k in ("--eye", "--target", "--up"))
+    f = (target - eye) / np.linalg.norm(target - eye)
+    r = np.cross(f, up)
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    w, h = (int(x) for x in size.split("x"))
+    t = math.tan(math.radians(float(flags.get("--fovy", "45"))) / 2)
+
+    def window(p):
+        v = np.asarray(p) - eye
+        z = v @ f
+        return ((v @ r) / (z * t * w / h) + 1) / 2 * w, ((v @ u) / (z * t) + 1) / 2 * h
+
+    def draw(bits):
+        q = float(2 ** bits)
+        snap = lambda c: round(c * q) / q  # noqa: E731
+        img, ends = np.zeros((h, w), bool), np.zeros((h, w), bool)
+        for p in pts:
+            x, y = (snap(c) for c in window(p))
+            img[h - 1 - (math.ceil(y) - 1), math.ceil(x) - 1] = True
+        for a, b in segs:
+            (x0, y0), (x1, y1) = ([snap(c) for c in window(e)] for e in (a, b))
+            for ex, ey in ((x0, y0), (x1, y1)):
+                ends[max(0, h - 2 - math.floor(ey)):h + 1 - math.floor(ey), max(0, math.floor(ex) - 1):math.floor(ex) + 2] = True
+            ymajor = abs(y1 - y0) > abs(x1 - x0)
+            if ymajor:
+                x0, y0, x1, y1 = y0, x0, y1, x1
+            if x1 < x0:
+                x0, y0, x1, y1 = x1, y1, x0, y0
+            for c in range(math.floor(x0), math.ceil(x1) + 1):
+                if x0 <= c + 0.5 <= x1:
+                    m = math.floor(y0 + (y1 - y0) * (c + 0.5 - x0) / (x1 - x0))
+                    X, Y = (m, c) if ymajor else (c, m)
+                    img[h - 1 - Y, X] = True
+        return img, ends
+
+    ref = np.any(np.asarray(Image.open(row["ref"]).convert("RGB")) > 0, axis=2)
+    ours = np.any(np.asarray(Image.open(row["rast"]).convert("RGB")) > 0, axis=2)
+    (s4, e4), (s8, e8) = draw(4), draw(8)
+    keep = ~(e4 | e8)
+    return {"ref_vs_rast": int(np.sum((ref != ours) & keep)), "ends_ref_vs_rast": int(np.sum((ref != ours) & ~keep)),
+            "snap16_vs_ref": int(np.sum((s4 != ref) & keep)), "snap16_vs_rast": int(np.sum((s4 != ours) & keep)),
+            "snap256_vs_ref": int(np.sum((s8 != ref) & keep)), "snap256_vs_rast": int(np.sum((s8 != ours) & keep))}
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--rast", required=True)
@@ -289,6 +456,8 @@ def main():
     ap.add_argument("--extra-flags", default="", help="more rast render flags")
     ap.add_argument("--skip-ref", action="store_true", help="reuse OUT/*.ref.png")
     ap.add_argument("--no-added-light", action="store_true", help="add no light to files without any (with --env)")
+    ap.add_argument("--one-context", action="store_true",
+                    help="with --env, one reference run for all models, its page keeping one WebGL context (above)")
     ap.add_argument("--samplers", choices=["nomip", "mipnear"], help="change every sampler of the copies (above)")
     ap.add_argument("--by-material", action="store_true", help="where the disagreement lies, material by material")
     ap.add_argument("--group", action="append", default=[], help="with --by-material: a row LABEL for names matching REGEX")
@@ -337,13 +506,16 @@ def main():
         # One batch shares the reference's start-up; with an environment a
         # batch drew only its first scene right (the later ones came out
         # unlit or empty, 2026-11-26), so then each scene runs on its own.
-        groups = [[j] for j in jobs] if a.env else [jobs]
+        # --one-context: a copy of the reference that keeps one WebGL context,
+        # whose batches draw every scene right (one_context_kref).
+        groups = [[j] for j in jobs] if a.env and not a.one_context else [jobs]
+        kref = one_context_kref(a.out) if a.one_context else os.path.join(KREF, "khronos_ref.mjs")
         for k, group in enumerate(groups):
             batch = os.path.join(a.out, f"jobs{k}.jsonl")
             with open(batch, "w") as f:
                 for j in group:
                     f.write(json.dumps(j) + "\n")
-            subprocess.run(["node", os.path.join(KREF, "khronos_ref.mjs"), "--batch", batch], check=False)
+            subprocess.run(["node", kref, "--batch", batch], check=False)
     print("| model | interior px | within 3/255 | within 8/255 | mean diff /255 | gamma 2.2: within 3 | within 8 | mean diff | coverage IoU |")
     print("|---|---|---|---|---|---|---|---|---|")
     for row in rows:
@@ -362,9 +534,31 @@ def main():
         write_gamma22_png(row["rast"].replace(".png", ".pfm"), g22)
         g = fidelity(g22)
         row["srgb"], row["gamma22"] = f, g
-        print(f"| {row['model']}{'' if row['light_added'] else ' (own lights)'} | {f['interior']} | {f['within3']:.3f} | "
+        own = bool(read_gltf(row["source"])[0].get("extensions", {}).get("KHR_lights_punctual", {}).get("lights"))
+        print(f"| {row['model']}{' (own lights)' if own else ''} | {f['interior']} | {f['within3']:.3f} | "
               f"{f['within8']:.3f} | {f['mae']:.2f} | {g['within3']:.3f} | {g['within8']:.3f} | {g['mae']:.2f} | "
               f"{f['coverage_iou']:.3f} |")
+        if f["interior"] == 0:
+            row["covered_both"] = {"srgb": covered_both(row["ref"], row["rast"]), "gamma22": covered_both(row["ref"], g22)}
+            row["snap"] = snap_check(row, a.size)
+    thin = [r for r in rows if "covered_both" in r]
+    if thin:
+        print("\nNo interior (points, lines): the pixels both cover, not eroded (gamma 2.2 columns: rast's PFM encoded as the reference does)\n")
+        print("| model | reference px | rast px | both | within 3/255 | within 8/255 | mean diff /255 | gamma 2.2: within 3 | within 8 | mean diff |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        for r in thin:
+            c, g = r["covered_both"]["srgb"], r["covered_both"]["gamma22"]
+            print(f"| {r['model']} | {c['ref_px']} | {c['test_px']} | {c['both_px']} | {c['within3']:.3f} | {c['within8']:.3f} | "
+                  f"{c['mae']:.2f} | {g['within3']:.3f} | {g['within8']:.3f} | {g['mae']:.2f} |")
+        print("\nWhere their pixels differ: the coverage simulated with window coordinates snapped to 1/16 pixel "
+              "(the reference's SwiftShader) and to 1/256 (rast), away from the segments' ends (snap_check)\n")
+        print("| model | pixels ref != rast | of them at segment ends | 1/16 sim != ref | 1/16 sim != rast | "
+              "1/256 sim != ref | 1/256 sim != rast |")
+        print("|---|---|---|---|---|---|---|")
+        for r in thin:
+            c = r["snap"]
+            print(f"| {r['model']} | {c['ref_vs_rast']} | {c['ends_ref_vs_rast']} | {c['snap16_vs_ref']} | "
+                  f"{c['snap16_vs_rast']} | {c['snap256_vs_ref']} | {c['snap256_vs_rast']} |")
     json.dump(rows, open(os.path.join(a.out, "fidelity.json"), "w"), indent=1)
     if a.by_material:
         for row in rows:
