@@ -100,7 +100,7 @@ TEST_CASE("a scene's shares draw its primitives in order, in place, once", "[dis
   CHECK(whole.draws.size() == 4);
 }
 
-TEST_CASE("the first share keeps BLEND draws whole; its added triangles map to global ids", "[distributed]") {
+TEST_CASE("the first share keeps BLEND draws whole and maps its added triangles to global ids", "[distributed]") {
   // Opaque fan (5), BLEND fan (5, with a vertex no triangle uses), opaque fan again, BLEND fan again, lines.
   Scene full = mixedScene();
   Material blend;
