@@ -61,10 +61,11 @@ void launchPbr(const Shade& k, const Range& items) {
   // A scene with a clear coat takes the one instance that draws it (the
   // other features read at run time: see PbrFeature).
   if (k.hasClearcoat) return launchPbrWith<kPbrClearcoat>(k, items);
-  // Scenes whose only textures are base colours (most game assets and
-  // scans) sample that one texture without the loop over the slots: on the
-  // H100 the loop, its texel array and the filter's generality cost the
-  // textured models more than the glTF BRDF (docs/performance.md).
+  // Scenes whose only textures are base colours (the three textured shared
+  // models are) sample that one texture without the loop over the slots: on
+  // the H100 the loop and its texel array cost those models about as much as
+  // the sampler's derivatives and level of detail, and more than the glTF
+  // BRDF (docs/performance.md).
   constexpr int kBase = kPbrTextured | kPbrBaseTexture;
   switch ((k.hasUV ? (k.baseTexturesOnly ? kBase : kPbrTextured) : 0) | (k.p.useEnv ? kPbrEnv : 0) |
           (k.numPunctual > 0 ? kPbrPunctual : 0)) {
