@@ -109,6 +109,18 @@ constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
 // at 128 it spills 176 bytes and still takes 25-30% less time on the H100
 // (8 full-screen layers 1.29 -> 0.96 ms, 32 layers 6.51 -> 4.56 ms).
 constexpr unsigned kBlendResolveLaunchBounds[2] = {256, 2};
+// Its team form (PeelTeam, the specialised instances on GPUs): a team per
+// 8x8 block, a thread a pixel; {64, 8} keeps the same 128-register cap. The
+// block's listed triangles are set up in team scratch: this many bytes a team
+// (8 teams, 192 KiB, fit a Hopper multiprocessor's 228 KiB), or, when the
+// last frame's longest list needed more, up to the larger size (fewer teams a
+// multiprocessor; below the 48 KiB a CUDA block has without opting in). A
+// longer list is walked from global memory, as by the plain resolve. H100,
+// 1920x1080 (docs/transparency.md): 44 KiB for every frame made 64 layers 3x
+// faster and 8 layers 1.4x slower.
+constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 8};
+constexpr size_t kBlendTeamScratchBytes = 24 * 1024;
+constexpr size_t kBlendTeamScratchMaxBytes = 44 * 1024;
 // The visbuffer raster's blocks (raster_visbuffer.cpp) on GPUs: one SIMD group
 // a block, {threads, blocks per multiprocessor}; on NVIDIA {32, 20}, a cap of
 // 102 registers that the kernel's 96 stay under. Its items cost from a few

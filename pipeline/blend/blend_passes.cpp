@@ -212,6 +212,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
   Kokkos::parallel_for("rast::blend::clear_totals", Range(0, 1), KOKKOS_LAMBDA(const int) {
     totals(kBlendFrags) = 0;
     totals(kBlendMaxDepth) = 0;
+    totals(kBlendLongest) = 0;
   });
   if (exact) {
     tileLists(f, opaqueKeys);

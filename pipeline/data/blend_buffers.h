@@ -17,7 +17,8 @@ enum BlendTotal : int {
   kBlendFrags = 2,    // exact and sorted: fragments in front of the opaque depth this frame
   kBlendMaxDepth = 3, // most fragments of one sample (the depth complexity `auto` reads)
   kBlendListed = 4,   // entries of the tile lists this frame (their need)
-  kNumBlendTotals = 5
+  kBlendLongest = 5,  // the longest tile list this frame (the next frame's team scratch)
+  kNumBlendTotals = 6
 };
 
 struct BlendBuffers {
@@ -30,6 +31,7 @@ struct BlendBuffers {
   // (shading clears the visibility buffer before the resolve reads them)
   DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
   uint64_t tileCapacity = 0;
+  uint64_t longestList = 0;  // the last frame's kBlendLongest, read on the host (the resolve's scratch size)
   // kbuffer: k keys per sample, nearest first
   DView<uint64_t> slots;
   int k = 0;

@@ -9,7 +9,8 @@ TestHooks& testHooks() {
 }
 
 std::string TestHooks::key() const {
-  const int32_t v[] = {gpuSetupOnHostTeam, hostSetupStaged, hostSetupStream, generalShade ? 1 : 0, rowLanes, shadeRun};
+  const int32_t v[] = {gpuSetupOnHostTeam, hostSetupStaged, hostSetupStream, generalShade ? 1 : 0, rowLanes, shadeRun,
+                     teamResolve ? 1 : 0};
   return std::string(reinterpret_cast<const char*>(v), sizeof v);
 }
 

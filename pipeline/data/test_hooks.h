@@ -36,6 +36,10 @@ struct TestHooks {
   // (backends/tuning.h). 1 on a CPU forces the per-pixel kernel (the span
   // kernel needs runs).
   int shadeRun = 0;
+  // true: the exact and sorted BLEND resolve takes a GPU's team form on a
+  // host backend too (blend_tiles.cpp, PeelTeam: a block's list set up once
+  // in team scratch), so that its bits are checked against the host's own.
+  bool teamResolve = false;
 
   // The values as bytes, for the frame plan's key.
   std::string key() const;

@@ -433,7 +433,10 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
   if (fit && plan_.blend.blend) {
     auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.blend.totals);
     const bool listed = plan_.blend.method == Transparency::Exact || plan_.blend.method == Transparency::Sorted;
-    if (listed) blendNeed_ = t(kBlendFrags);
+    if (listed) {
+      blendNeed_ = t(kBlendFrags);
+      frame_.blend.longestList = t(kBlendLongest);
+    }
     if (stats) {
       stats->blendFragments = blendNeed_;  // kbuffer and weighted count none: the last exact frame's
       stats->blendMaxDepth = t(kBlendMaxDepth);

@@ -264,6 +264,60 @@ TEST_CASE("BLEND: the specialised fragment shading gives the general fragment ma
   }
 }
 
+TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transparency][blend]") {
+  // GPUs resolve exact and sorted a team per 8x8 block, its list set up once
+  // in team scratch (blend_tiles.cpp, PeelTeam); TestHooks::teamResolve runs
+  // that form here. Separate lit layers, submitted back to front and front to
+  // back (exact: the blocks whose triangles' depth ranges do not overlap are
+  // walked once in that order), intersecting ones (12: peeled keys from the
+  // list in scratch; 40: the lists along the quads' diagonals outgrow it and
+  // take the plain walk), coplanar ones (ordered by raster index), a
+  // vertex-coloured BLEND quad; one and four samples; exact and sorted; the
+  // statistics too.
+  struct Team {
+    Team() { testHooks().teamResolve = true; }
+    ~Team() { testHooks().teamResolve = false; }
+  };
+  for (const char* name : {"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
+                           "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
+                           "builtin:layers?n=6&mixed=1&equal=1", "builtin:cutout?blend=1"}) {
+    const Scene s = builtinScene(name);
+    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr})
+      for (int msaa : {1, 4})
+        for (Transparency t : {Transparency::Exact, Transparency::Sorted}) {
+          INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
+          RenderSettings rs = small();
+          rs.shading = mode;
+          rs.msaa = msaa;
+          rs.transparency = t;
+          FrameStats plainStats, teamStats;
+          const std::vector<rast::float4> plain = film(s, rs, &plainStats);
+          std::vector<rast::float4> team;
+          {
+            Team g;
+            team = film(s, rs, &teamStats);
+          }
+          CHECK(sameBits(plain, team));
+          CHECK(plainStats.blendFragments == teamStats.blendFragments);
+          CHECK(plainStats.blendMaxDepth == teamStats.blendMaxDepth);
+        }
+  }
+  // A second frame sizes the scratch for the first frame's longest list
+  // (40 intersecting layers: up to 80 triangles a block, past the smaller
+  // scratch): the same bits as the first frame, which walked those lists
+  // from global memory.
+  Team g;
+  const Scene s = builtinScene("builtin:layers?n=40&mixed=1&cross=1");
+  RenderSettings rs = small();
+  rs.transparency = Transparency::Exact;
+  Renderer r(s);
+  r.render(defaultCamera(s), rs);
+  const std::vector<rast::float4> first = r.filmBottomUp();
+  r.render(defaultCamera(s), rs);
+  CHECK(r.frameBuffers().blend.longestList >= 60);
+  CHECK(sameBits(first, r.filmBottomUp()));
+}
+
 TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer and say so", "[transparency][blend]") {
   {  // the statistics the tile lists' resolve reduces
     const Scene s = builtinScene("builtin:layers?n=64&alpha=0.2");
