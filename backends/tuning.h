@@ -114,12 +114,14 @@ constexpr unsigned kBlendResolveLaunchBounds[2] = {256, 2};
 // block's listed triangles are set up in team scratch: this many bytes a team
 // (8 teams, 192 KiB, fit a Hopper multiprocessor's 228 KiB), or, when the
 // last frame's longest list needed more, up to the larger size (fewer teams a
-// multiprocessor; below the 48 KiB a CUDA block has without opting in). A
-// longer list is walked from global memory, as by the plain resolve. H100,
-// 1920x1080 (docs/transparency.md): 44 KiB for every frame made 64 layers 3x
-// faster and 8 layers 1.4x slower.
+// multiprocessor, under their own launch bounds: Kokkos refuses a scratch
+// that does not let the bounds' teams fit; below the 48 KiB a CUDA block has
+// without opting in). A longer list is walked from global memory, as by the
+// plain resolve. H100, 1920x1080 (docs/transparency.md): 44 KiB and {64, 5}
+// for every frame made 64 layers 3x faster and 8 layers 1.4x slower.
 constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 8};
 constexpr size_t kBlendTeamScratchBytes = 24 * 1024;
+constexpr unsigned kBlendTeamDeepLaunchBounds[2] = {64, 5};
 constexpr size_t kBlendTeamScratchMaxBytes = 44 * 1024;
 // The visbuffer raster's blocks (raster_visbuffer.cpp) on GPUs: one SIMD group
 // a block, {threads, blocks per multiprocessor}; on NVIDIA {32, 20}, a cap of

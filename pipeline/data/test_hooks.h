@@ -37,7 +37,7 @@ struct TestHooks {
   // kernel needs runs).
   int shadeRun = 0;
   // true: the exact and sorted BLEND resolve takes a GPU's team form on a
-  // host backend too (blend_tiles.cpp, PeelTeam: a block's list set up once
+  // host backend too (pipeline/blend/peel_team.h, PeelTeam: a block's list set up once
   // in team scratch), so that its bits are checked against the host's own.
   bool teamResolve = false;
 

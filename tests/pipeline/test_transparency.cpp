@@ -266,7 +266,7 @@ TEST_CASE("BLEND: the specialised fragment shading gives the general fragment ma
 
 TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transparency][blend]") {
   // GPUs resolve exact and sorted a team per 8x8 block, its list set up once
-  // in team scratch (blend_tiles.cpp, PeelTeam); TestHooks::teamResolve runs
+  // in team scratch (peel_team.h, PeelTeam); TestHooks::teamResolve runs
   // that form here. Separate lit layers, submitted back to front and front to
   // back (exact: the blocks whose triangles' depth ranges do not overlap are
   // walked once in that order), intersecting ones (12: peeled keys from the

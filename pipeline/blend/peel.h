@@ -1,0 +1,261 @@
+// The exact and sorted methods' resolve, a pixel (GPU) or a block's row (CPU)
+// a thread (docs/transparency.md, "exact and sorted: tile lists, peeled in
+// registers"): per sample its block's list walked with the raster methods'
+// edge and depth arithmetic, LESS against the opaque depth; the K smallest
+// keys above the last pass's largest kept in a small sorted array and
+// composited front to back; a sample with more than K fragments, still not
+// opaque, walks the list again (depth peeling, in registers). Apart from
+// blend_tiles.cpp, which builds the lists and launches this, and
+// peel_team.h, the GPU's team form, which falls back on it for long lists.
+#pragma once
+
+#include "pipeline/blend/frag_shade.h"
+#include "pipeline/cpu/span_math.h"
+
+namespace rast {
+namespace blending {
+
+// Keys kept per pass and sample. On a GPU the array must stay in registers:
+// the insertion below indexes it only with compile-time indices (an unrolled
+// chain of compare-and-swap), 8 keys = 16 registers a thread on top of the
+// fragment shader's; 16 would halve the passes over deep lists at the cost
+// of occupancy (to be measured on the H100). A CPU lane holds 16.
+constexpr int kPeelK = kOnDevice ? 8 : 16;
+// Pixels a CPU thread resolves together along a row (one block's row: they
+// share the list, and each triangle's edges and depth terms are set up once
+// for all of them); a GPU thread resolves one pixel, a warp half a block (one
+// list: the same loop and loads for its 32 threads). A CPU thread takes a
+// whole block, one lookup cache of kPeelK triangles for its 8 rows: the
+// pixels of a row composite the same K triangles one after the other.
+constexpr int32_t kPeelRun = kOnDevice ? 1 : (1 << kItemShift);
+constexpr int kPeelCache = kOnDevice ? 1 : kPeelK;
+constexpr uint64_t kNoKey = ~uint64_t(0);
+
+// The resolve for the frame's fragment family and features (frag_shade.h).
+template <int kFam, int kFeat>
+struct Peel {
+  using PeelCache = FragCacheOf<kPeelCache, kFam>;
+  FragShade fs;
+  DView<float4> hdr;
+  DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
+  DView<uint64_t> totals;
+  uint64_t tileCapacity;
+  int32_t width, height, blocksX, sorted;
+  int32_t lambertLanes = 0;  // Lambert under the headlight (compositeLanes)
+
+  // sorted's key: its triangle's, whatever the sample.
+  RAST_GPU_INLINE uint64_t sortedKeyOf(uint32_t i) const {
+    const AlphaScene& sc = fs.sc;
+    return fs.sortedKey(drawOf(sc.triDraw, sc.drawTriStart, sc.numDraws, sc.tris(i).prim), i);
+  }
+
+  // Keeps the kPeelK smallest keys seen, sorted, `held` of them so far
+  // (key is below best[kPeelK - 1]). On a GPU each step keeps the smaller of
+  // the two and carries the larger on (compile-time indices: registers); a
+  // CPU shifts the larger ones up from the end, as far as the key goes.
+  RAST_GPU_INLINE static void insert(uint64_t (&best)[kPeelK], uint64_t key, uint32_t held) {
+    if (kOnDevice) {
+#if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
+#pragma unroll
+#endif
+      for (int k = 0; k < kPeelK; ++k) {
+        const uint64_t lo = key < best[k] ? key : best[k];
+        key = key < best[k] ? best[k] : key;
+        best[k] = lo;
+      }
+      return;
+    }
+    int k = held < uint32_t(kPeelK) ? int(held) : kPeelK - 1;
+    for (; k > 0 && best[k - 1] > key; --k) best[k] = best[k - 1];
+    best[k] = key;
+  }
+
+  // Work items: on a GPU one pixel, numbered 64 a block (block-major); on a
+  // CPU one block.
+  RAST_FLATTEN void operator()(const int64_t item, uint64_t& frags) const {
+    const int64_t block = kPeelRun == 1 ? item >> (2 * kItemShift) : item;
+    const int32_t bx = int32_t(block % blocksX), by = int32_t(block / blocksX);
+    // A list that overflowed its capacity is not read: the frame is drawn again.
+    const bool listed = totals(kBlendListed) <= tileCapacity;
+    const uint32_t end = listed ? tileEnd(block) : 0u, begin = listed ? end - tileCount(block) : 0u;
+    PeelCache cache;
+    if (kPeelRun == 1) {
+      const int32_t p = int32_t(item & ((1 << (2 * kItemShift)) - 1));
+      const int32_t X = (bx << kItemShift) + (p & ((1 << kItemShift) - 1)), Y = (by << kItemShift) + (p >> kItemShift);
+      if (X < width && Y < height) row(X, Y, 1, begin, end, cache, frags);
+      return;
+    }
+    const int32_t x0 = bx << kItemShift, run = x0 + kPeelRun < width ? kPeelRun : width - x0;
+    for (int32_t Y = by << kItemShift; Y < ((by + 1) << kItemShift) && Y < height; ++Y)
+      row(x0, Y, run, begin, end, cache, frags);
+  }
+
+  // A CPU, Lambert under the headlight without vertex colours: the k-th
+  // fragments of a run's pixels, when they are one triangle's (layers over
+  // a block: mostly), lit together by the span shader's vector loop
+  // (pipeline/cpu/span_math.h, spanLightingLanesWide: Shade::shadeFragment's
+  // expressions in its order, the same bits), each pixel still composited
+  // front to back and stopped where it is opaque. Others one at a time.
+  static constexpr bool kLanes = !kOnDevice && kFam == kFragLit && kFeat == 0;
+  KOKKOS_INLINE_FUNCTION void compositeLanes(const int32_t x0, const int32_t Y, const int s, const int32_t run,
+                                             const uint64_t (&best)[kPeelRun][kPeelK], const uint32_t (&cnt)[kPeelRun],
+                                             const bool (&more)[kPeelRun], float3 (&acc)[kPeelRun],
+                                             float (&T)[kPeelRun], PeelCache& cache) const {
+    using shading::SpanConsts;
+    for (int k = 0; k < kPeelK; ++k) {
+      int32_t m = 0;
+      int lane[kPeelRun];
+      uint32_t tri = ~0u;
+      bool same = true;
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        if (!more[r] || !(k < int(cnt[r])) || !(T[r] > 0.0f)) continue;
+        const uint32_t idx = keyIndex(best[r][k], sorted != 0);
+        same = same && (m == 0 || idx == tri);
+        tri = idx;
+        lane[m++] = r;
+      }
+      if (m == 0) break;
+      if (same && m > 1) {
+        const int e = cache.slot(tri);
+        if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
+        fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
+        cache.evS[e] = -1;  // its stepped edge values are not this row's
+        const AlphaTri& a = cache.a[e];
+        const TriFrag& f = cache.tf[e];
+        if (!a.textured && !fs.sc.hasColor && !f.textured) {
+          const float alpha = cleanAlpha(a.alpha);  // AlphaScene::alphaFrom of a constant alpha
+          if (!(alpha > 0.0f)) continue;           // no fragment
+          // The edge values at the sample of pixel (X, Y) (Edges::atSample),
+          // exact integers in double; the headlight's lighting.
+          SpanConsts c;
+          fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
+                         1.0f - fs.sh.p.ambient);
+          alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
+          alignas(32) float b0[kPeelRun], b1[kPeelRun], b2[kPeelRun], nx[kPeelRun], ny[kPeelRun], nz[kPeelRun],
+              diffuse[kPeelRun];
+          for (int j = 0; j < m; ++j) {
+            X[j] = x0 + lane[j];
+            Ys[j] = Y;
+          }
+          shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
+          const float4 base = f.baseColor;
+          for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)
+            const float3 rgb = float3{base.x, base.y, base.z} * diffuse[j] + float3{0.0f, 0.0f, 0.0f};
+            over(acc[lane[j]], T[lane[j]], float4{rgb.x, rgb.y, rgb.z, alpha});
+          }
+          continue;
+        }
+      }
+      for (int j = 0; j < m; ++j) {
+        const int r = lane[j];
+        const float4 c = cache.template at<kFeat>(fs, keyIndex(best[r][k], sorted != 0), x0 + r, Y, s);
+        if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
+      }
+    }
+  }
+
+  // Pixels x0 .. x0 + run - 1 of row Y, whose block's list is [begin, end).
+  RAST_GPU_INLINE void row(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
+                                  const uint32_t end, PeelCache& cache, uint64_t& frags) const {
+    const int S = fs.sp.count;
+    float4 sum[kPeelRun];
+    for (int r = 0; r < kPeelRun; ++r) sum[r] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+    for (int s = 0; s < S; ++s) {
+      uint64_t best[kPeelRun][kPeelK];
+      uint64_t after[kPeelRun];
+      uint32_t cnt[kPeelRun], opq[kPeelRun];
+      float3 acc[kPeelRun];
+      float T[kPeelRun];
+      bool more[kPeelRun];
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        after[r] = 0;  // every key is above 0
+        acc[r] = float3{0.0f, 0.0f, 0.0f};
+        T[r] = 1.0f;
+        more[r] = end > begin;
+        opq[r] = opaque((int64_t(Y) * width + x0 + r) * S + s);
+      }
+      for (bool first = true;; first = false) {
+        bool any = false;
+        for (int r = 0; r < kPeelRun && r < run; ++r) any = any || more[r];
+        if (!any) break;
+        for (int r = 0; r < kPeelRun && r < run; ++r) {
+          cnt[r] = 0;
+          for (int k = 0; k < kPeelK; ++k) best[r][k] = kNoKey;
+        }
+        // Last entry first: a list is roughly in submission order, and
+        // transparent draws are mostly submitted back to front, so that the
+        // nearest keys come first and a key rarely moves the ones held (on a
+        // CPU, an insertion shifts the larger keys up).
+        for (uint32_t j = end; j-- > begin;) {
+          const uint32_t i = tileTris(j);
+          const RasterTri& t = fs.sc.tris(i);
+          const Edges e(t);
+          const DepthTerms dz(t);
+          const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+          const uint64_t triKey = sorted ? sortedKeyOf(i) : 0;
+          // The edge values at the run's first pixel's sample, then a step of
+          // A_i a pixel: exact integers, the values forItemSamples takes.
+          int64_t s0 = e.atSample(0, e.eval(0, x0, Y), ox, oy), s1 = e.atSample(1, e.eval(1, x0, Y), ox, oy),
+                  s2 = e.atSample(2, e.eval(2, x0, Y), ox, oy);
+          for (int r = 0; r < kPeelRun && r < run; ++r, s0 += e.A[0], s1 += e.A[1], s2 += e.A[2]) {
+            if (!more[r]) continue;
+            if (!e.inside(s0, s1, s2)) continue;
+            const float z = dz.at(s0, s2);
+            if (!(floatBits(z) < opq[r])) continue;  // LESS against the opaque depth
+            const uint64_t key = sorted ? triKey : visKey(z, i);
+            if (key <= after[r]) continue;  // composited by an earlier pass
+            if (key < best[r][kPeelK - 1]) insert(best[r], key, cnt[r]);
+            ++cnt[r];
+          }
+        }
+        const bool lanes = kLanes && lambertLanes && run > 1;
+        for (int r = 0; r < kPeelRun && r < run; ++r) {
+          if (!more[r]) continue;
+          if (first) {  // the statistics: every fragment in front of the opaque depth
+            frags += cnt[r];
+            if (cnt[r] > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt[r]));
+          }
+          if (lanes) continue;  // composited below, the run's pixels together
+          // Front to back: on a GPU the nearest taken from the front of the
+          // array and the rest shifted up (compile-time indices, one shading
+          // call); a CPU indexes the array.
+          const uint64_t lastKey = best[r][kPeelK - 1];
+          const int kept = cnt[r] < uint32_t(kPeelK) ? int(cnt[r]) : kPeelK;
+          for (int k = 0; k < kept && T[r] > 0.0f; ++k) {
+            const uint64_t key = best[r][kOnDevice ? 0 : k];
+            if (kOnDevice)
+              for (int m = 0; m + 1 < kPeelK; ++m) best[r][m] = best[r][m + 1];
+            const float4 c = cache.template at<kFeat>(fs, keyIndex(key, sorted != 0), x0 + r, Y, s);
+            if (c.w > 0.0f) over(acc[r], T[r], c);  // alpha 0 (or NaN): no fragment
+          }
+          more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
+          after[r] = lastKey;
+        }
+        if constexpr (kLanes) {
+          if (lanes) {
+            compositeLanes(x0, Y, s, run, best, cnt, more, acc, T, cache);
+            for (int r = 0; r < kPeelRun && r < run; ++r) {
+              if (!more[r]) continue;
+              more[r] = cnt[r] > uint32_t(kPeelK) && T[r] > 0.0f;
+              after[r] = best[r][kPeelK - 1];
+            }
+          }
+        }
+      }
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        const int64_t i = int64_t(Y) * width + x0 + r;
+        const float4 out = overOpaque(acc[r], T[r], hdr(i));
+        if (S == 1) {
+          hdr(i) = out;
+        } else {
+          sum[r] = sum[r] + out;
+          if (s + 1 == S) hdr(i) = sum[r] * (1.0f / float(S));
+        }
+      }
+    }
+  }
+};
+
+
+}  // namespace blending
+}  // namespace rast

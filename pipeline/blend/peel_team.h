@@ -1,0 +1,302 @@
+// The exact and sorted methods' resolve on GPUs, a team per 8x8 block
+// (docs/transparency.md, "On a GPU: a team a block"); host backends run it
+// under TestHooks::teamResolve. Its own file: it sets a block's list up in
+// team scratch and orders it, where peel.h walks the list a pixel a thread.
+#pragma once
+
+#include "pipeline/blend/peel.h"
+
+namespace rast {
+namespace blending {
+
+// A triangle's depth over the samples of the 8x8 block at (x0, y0), bounded:
+// the depth plane (DepthTerms::plane) at the corners of the block's pixels
+// (every sample lies within them), in double from the exact edge values,
+// widened past the float evaluation's rounding (each of its terms rounds
+// within 2^-21 of the sum of their magnitudes), clamped as DepthTerms::at
+// clamps. NaN terms give NaN bounds, which order nothing.
+KOKKOS_INLINE_FUNCTION void blockDepthRange(const Edges& e, const DepthTerms& dz, int32_t x0, int32_t y0, float& lo,
+                                            float& hi) {
+  const double c0 = double(e.eval(0, x0, y0)), c2 = double(e.eval(2, x0, y0));
+  double mn = 0.0, mx = 0.0, mag = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    const double fx = (c & 1) ? 7.5 : -0.5, fy = (c & 2) ? 7.5 : -0.5;  // pixels from (x0, y0)
+    const double e0 = c0 + double(e.A[0]) * fx + double(e.B[0]) * fy, e2 = c2 + double(e.A[2]) * fx + double(e.B[2]) * fy;
+    const double t1 = e2 * double(dz.ia) * double(dz.d1), t2 = e0 * double(dz.ia) * double(dz.d2);
+    const double z = double(dz.z0) + (t1 + t2);
+    const double m = ::fabs(double(dz.z0)) + ::fabs(t1) + ::fabs(t2);
+    mn = c == 0 || z < mn ? z : mn;
+    mx = c == 0 || z > mx ? z : mx;
+    mag = m > mag ? m : mag;
+  }
+  const double w = mag * 0x1p-20;
+  const double l = mn - w, h = mx + w;
+  lo = l == l ? float(l < 0.0 ? 0.0 : (l > 1.0 ? 1.0 : l)) : l;
+  hi = h == h ? float(h < 0.0 ? 0.0 : (h > 1.0 ? 1.0 : h)) : h;
+}
+
+// The resolve's team form, for the specialised fragment shading on GPUs (and
+// on host backends under TestHooks::teamResolve, so that tests compare it
+// with the plain form): a team per 8x8 block. The block's list is copied into
+// team scratch in raster-index order and each of its triangles set up there
+// once for the block's 64 pixels: edges and depth terms, the shading lookups
+// (AlphaTri, TriFrag, PbrTri), and the triangle's depth range over the block.
+// The plain resolve set a triangle up again for every fragment it shaded
+// (one cached lookup a thread: a pixel's layers are different triangles).
+// The triangles' order is then the same at every sample of the block when
+//   sorted: always (a triangle's key is its draw's, whatever the sample);
+//   exact:  the depth ranges do not overlap (separate layers: most blocks),
+// and each pixel walks the list once in that order, compositing what it
+// covers as it finds it: no keys, no insertion, no second walk. Otherwise a
+// pixel keeps the K nearest keys and peels as row() does, with keys that end
+// in the triangle's place in the list instead of its raster index (the list
+// is in raster-index order: the same order). Either way the same fragments
+// are composited in the same order as by the plain form: the same bits. A
+// list longer than the scratch holds is resolved the plain way.
+template <int kFam, int kFeat>
+struct PeelTeam {
+  struct Entry {
+    AlphaTri a;
+    TriFrag tf;
+    FragPbrTri<kFam> pt;
+    DepthTerms dz;    // no default: entries live in scratch, never constructed
+    uint64_t triKey;  // sorted: its draw's key with the low half cleared
+    uint64_t order;   // its key in the block's order (sorted's key; exact: the depth range's start)
+    float lo, hi;     // exact: its depth range over the block
+  };
+  static constexpr int32_t kPixels = 1 << (2 * kItemShift);
+  // Entries that fit n bytes of scratch; the scratch for n entries.
+  static constexpr uint32_t entriesIn(size_t n) { return uint32_t((n - 64) / (sizeof(Entry) + 2 * sizeof(uint32_t))); }
+  static constexpr size_t scratchFor(uint32_t n) { return n * (sizeof(Entry) + 2 * sizeof(uint32_t)) + 64; }
+  static_assert(entriesIn(kBlendTeamScratchBytes) >= 16,
+                "a block's list under 8 full-screen layers (16 triangles on its diagonal) fits");
+  // The entries of a frame whose last frame's longest list was `longest`.
+  static uint32_t entriesFor(uint64_t longest) {
+    const uint32_t lo = entriesIn(kBlendTeamScratchBytes), hi = entriesIn(kBlendTeamScratchMaxBytes);
+    return longest <= lo ? lo : (longest < hi ? uint32_t(longest) : hi);
+  }
+
+  Peel<kFam, kFeat> peel;
+  int64_t blocks;
+  uint32_t entries;  // entries the scratch holds (entriesFor)
+
+  // The team's scratch: the entries, the raw and ordered lists, flags and
+  // the team's fragment count.
+  struct Scratch {
+    Entry* ent;
+    uint32_t *raw, *ord;
+    int32_t *ordered, *same;
+    uint64_t* frags;
+  };
+
+  // A team takes a run of neighbouring blocks (along a row: mostly the same
+  // list, whose entries it then keeps), and counts its fragments into
+  // totals(kBlendFrags) with one atomic (a team reduction per block cost
+  // more than the resolve's own work on the H100).
+  RAST_FLATTEN void operator()(const TeamMember& m) const {
+    Scratch sc;
+    sc.ent = static_cast<Entry*>(m.team_scratch(0).get_shmem_aligned(size_t(entries) * sizeof(Entry), 16));
+    sc.raw = static_cast<uint32_t*>(m.team_scratch(0).get_shmem(entries * sizeof(uint32_t)));
+    sc.ord = static_cast<uint32_t*>(m.team_scratch(0).get_shmem(entries * sizeof(uint32_t)));
+    sc.frags = static_cast<uint64_t*>(m.team_scratch(0).get_shmem_aligned(sizeof(uint64_t), 8));
+    sc.ordered = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
+    sc.same = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
+    const int64_t per = (blocks + m.league_size() - 1) / m.league_size();
+    const int64_t b0 = per * m.league_rank(), b1 = b0 + per < blocks ? b0 + per : blocks;
+    uint64_t frags = 0;
+    uint32_t held = ~0u;  // the length of the list whose entries the scratch holds (~0u: none)
+    if (m.team_rank() == 0) *sc.frags = 0;
+    for (int64_t block = b0; block < b1; ++block) resolveBlock(m, sc, block, held, frags);
+    if (frags) Kokkos::atomic_add(sc.frags, frags);
+    m.team_barrier();
+    if (m.team_rank() == 0 && *sc.frags) Kokkos::atomic_add(&peel.totals(kBlendFrags), *sc.frags);
+  }
+
+  // The place of raster index i in the list in raster-index order (its
+  // entries are unique).
+  KOKKOS_INLINE_FUNCTION static uint32_t rankOf(const uint32_t* raw, const uint32_t n, const uint32_t i) {
+    uint32_t r = 0;
+    for (uint32_t k = 0; k < n; ++k) r += raw[k] < i ? 1u : 0u;
+    return r;
+  }
+
+  RAST_GPU_INLINE void resolveBlock(const TeamMember& m, const Scratch& sc, const int64_t block, uint32_t& held,
+                                    uint64_t& frags) const {
+    const Peel<kFam, kFeat>& P = peel;
+    const int32_t bx = int32_t(block % P.blocksX), by = int32_t(block / P.blocksX);
+    const int32_t x0 = bx << kItemShift, y0 = by << kItemShift;
+    const bool listed = P.totals(kBlendListed) <= P.tileCapacity;  // else the frame is drawn again
+    const uint32_t end = listed ? P.tileEnd(block) : 0u, begin = listed ? end - P.tileCount(block) : 0u;
+    const uint32_t n = end - begin;
+    const int nThreads = m.team_size(), me = m.team_rank();
+    if (n > entries) {  // the plain resolve's walk of the global list
+      typename Peel<kFam, kFeat>::PeelCache cache;
+      for (int p = me; p < kPixels; p += nThreads) {
+        const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
+        if (X < P.width && Y < P.height) P.row(X, Y, 1, begin, end, cache, frags);
+      }
+      return;
+    }
+    Entry* ent = sc.ent;
+    uint32_t *raw = sc.raw, *ord = sc.ord;
+    for (uint32_t j = uint32_t(me); j < n; j += uint32_t(nThreads)) raw[j] = P.tileTris(begin + j);
+    if (me == 0) {
+      *sc.ordered = 1;
+      *sc.same = n == held ? 1 : 0;
+    }
+    m.team_barrier();
+    // Entry r of the list in raster-index order: its rank among the (unique)
+    // raster indices. The last block's entries serve when they are the same.
+    for (uint32_t j = uint32_t(me); j < n; j += uint32_t(nThreads))
+      if (ent[rankOf(raw, n, raw[j])].a.index != raw[j]) *sc.same = 0;
+    m.team_barrier();
+    if (!*sc.same) {
+      for (uint32_t j = uint32_t(me); j < n; j += uint32_t(nThreads)) {
+        const uint32_t i = raw[j], r = rankOf(raw, n, i);
+        Entry& en = ent[r];
+        en.a.index = ~0u;
+        P.fs.sc.prepare(i, en.a);
+        en.tf.index = ~0u;
+        P.fs.template use<kFam>(i, en.tf, en.pt);
+        en.dz = DepthTerms(P.fs.sc.tris(i));
+        en.triKey = P.sorted ? P.sortedKeyOf(i) & ~uint64_t(0xffffffffu) : 0;
+      }
+      m.team_barrier();  // an entry's range below is another thread's set-up
+    }
+    held = n;
+    // Each entry's depth range over this block, and its key in the block's
+    // order: sorted's key (as the keys below); exact: the range's start, ties
+    // by raster index.
+    for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
+      Entry& en = ent[r];
+      blockDepthRange(en.tf.e, en.dz, x0, y0, en.lo, en.hi);
+      en.order = P.sorted ? en.triKey | uint64_t(0xffffffffu - r) : uint64_t(orderBits(en.lo)) << 32 | r;
+    }
+    m.team_barrier();
+    for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
+      uint32_t d = 0;
+      for (uint32_t k = 0; k < n; ++k) d += ent[k].order < ent[r].order ? 1u : 0u;
+      ord[d] = r;
+    }
+    m.team_barrier();
+    if (!P.sorted)
+      for (uint32_t t = uint32_t(me); t + 1 < n; t += uint32_t(nThreads))
+        if (!(ent[ord[t]].hi < ent[ord[t + 1]].lo)) *sc.ordered = 0;  // ranges overlap (or NaN)
+    m.team_barrier();
+    const bool inOrder = *sc.ordered != 0;
+    for (int p = me; p < kPixels; p += nThreads) {
+      const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
+      if (X < P.width && Y < P.height) {
+        if (inOrder)
+          pixelInOrder(ent, ord, n, X, Y, frags);
+        else
+          pixel(ent, n, X, Y, frags);
+      }
+    }
+    m.team_barrier();  // the scratch is the next block's
+  }
+
+  // The sample's result into the film (row()'s ending).
+  RAST_GPU_INLINE void store(const int64_t px, const int s, const float3 acc, const float T, float4& sum) const {
+    const Peel<kFam, kFeat>& P = peel;
+    const int S = P.fs.sp.count;
+    const float4 out = overOpaque(acc, T, P.hdr(px));
+    if (S == 1) {
+      P.hdr(px) = out;
+    } else {
+      sum = sum + out;
+      if (s + 1 == S) P.hdr(px) = sum * (1.0f / float(S));
+    }
+  }
+  RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const {
+    // the statistics: every fragment in front of the opaque depth
+    frags += cnt;
+    if (cnt > peel.totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&peel.totals(kBlendMaxDepth), uint64_t(cnt));
+  }
+
+  // Pixel (X, Y) of a block whose triangles keep one order at all its
+  // samples: one walk in that order, each fragment composited as found.
+  RAST_GPU_INLINE void pixelInOrder(const Entry* ent, const uint32_t* ord, const uint32_t n, const int32_t X,
+                                    const int32_t Y, uint64_t& frags) const {
+    const FragShade& fs = peel.fs;
+    const int S = fs.sp.count;
+    const int64_t px = int64_t(Y) * peel.width + X;
+    float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
+    for (int s = 0; s < S; ++s) {
+      const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+      const uint32_t opq = peel.opaque(px * S + s);
+      float3 acc{0.0f, 0.0f, 0.0f};
+      float T = 1.0f;
+      uint32_t cnt = 0;
+      for (uint32_t t = 0; t < n; ++t) {
+        const Entry& en = ent[ord[t]];
+        const Edges& e = en.tf.e;
+        const int64_t s0 = e.atSample(0, e.eval(0, X, Y), ox, oy), s1 = e.atSample(1, e.eval(1, X, Y), ox, oy),
+                      s2 = e.atSample(2, e.eval(2, X, Y), ox, oy);
+        if (!e.inside(s0, s1, s2)) continue;
+        if (!(floatBits(en.dz.at(s0, s2)) < opq)) continue;  // LESS against the opaque depth
+        ++cnt;
+        if (!(T > 0.0f)) continue;  // opaque already: counted, not shaded
+        const float4 c = fs.template shadeAt<kFam, kFeat>(X, Y, s, s0, s1, s2, en.a, en.tf, en.pt);
+        if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
+      }
+      count(cnt, frags);
+      store(px, s, acc, T, sum);
+    }
+  }
+
+  // Pixel (X, Y): row()'s passes over the scratch entries, key for key.
+  RAST_GPU_INLINE void pixel(const Entry* ent, const uint32_t n, const int32_t X, const int32_t Y,
+                             uint64_t& frags) const {
+    const Peel<kFam, kFeat>& P = peel;
+    const FragShade& fs = P.fs;
+    const int S = fs.sp.count;
+    const int64_t px = int64_t(Y) * P.width + X;
+    float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
+    for (int s = 0; s < S; ++s) {
+      const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+      const uint32_t opq = P.opaque(px * S + s);
+      uint64_t after = 0;  // every key is above 0
+      float3 acc{0.0f, 0.0f, 0.0f};
+      float T = 1.0f;
+      for (bool more = n > 0, first = true; more; first = false) {
+        uint64_t best[kPeelK];
+        for (int k = 0; k < kPeelK; ++k) best[k] = kNoKey;
+        uint32_t cnt = 0;
+        for (uint32_t j = n; j-- > 0;) {  // last entry first, as row()
+          const Entry& en = ent[j];
+          const Edges& e = en.tf.e;
+          const int64_t s0 = e.atSample(0, e.eval(0, X, Y), ox, oy), s1 = e.atSample(1, e.eval(1, X, Y), ox, oy),
+                        s2 = e.atSample(2, e.eval(2, X, Y), ox, oy);
+          if (!e.inside(s0, s1, s2)) continue;
+          const float z = en.dz.at(s0, s2);
+          if (!(floatBits(z) < opq)) continue;  // LESS against the opaque depth
+          const uint64_t key = P.sorted ? (en.triKey | uint64_t(0xffffffffu - j)) : visKey(z, j);
+          if (key <= after) continue;  // composited by an earlier pass
+          if (key < best[kPeelK - 1]) Peel<kFam, kFeat>::insert(best, key, cnt);
+          ++cnt;
+        }
+        if (first) count(cnt, frags);
+        const uint64_t lastKey = best[kPeelK - 1];
+        const int kept = cnt < uint32_t(kPeelK) ? int(cnt) : kPeelK;
+        for (int k = 0; k < kept && T > 0.0f; ++k) {
+          const uint64_t key = best[kOnDevice ? 0 : k];
+          if (kOnDevice)
+            for (int q = 0; q + 1 < kPeelK; ++q) best[q] = best[q + 1];
+          const Entry& en = ent[keyIndex(key, P.sorted != 0)];
+          const Edges& e = en.tf.e;
+          const float4 c = fs.template shadeAt<kFam, kFeat>(X, Y, s, e.atSample(0, e.eval(0, X, Y), ox, oy),
+                                                            e.atSample(1, e.eval(1, X, Y), ox, oy),
+                                                            e.atSample(2, e.eval(2, X, Y), ox, oy), en.a, en.tf, en.pt);
+          if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
+        }
+        more = cnt > uint32_t(kPeelK) && T > 0.0f;
+        after = lastKey;
+      }
+      store(px, s, acc, T, sum);
+    }
+  }
+};
+
+}  // namespace blending
+}  // namespace rast
