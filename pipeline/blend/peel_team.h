@@ -196,82 +196,79 @@ struct PeelTeam {
     m.team_barrier();  // the scratch is the next block's
   }
 
-  // The sample's result into the film (row()'s ending).
-  RAST_GPU_INLINE void store(const int64_t px, const int s, const float3 acc, const float T, float4& sum) const {
+  // Each sample of pixel (X, Y): op(s, sample's opaque depth bits, acc, T)
+  // composites the fragments in front of it from acc = 0, T = 1; the result
+  // over the opaque colour into the film, the samples averaged (row()'s end).
+  template <class Op>
+  RAST_GPU_INLINE void eachSample(const int32_t X, const int32_t Y, Op&& op) const {
     const Peel<kFam, kFeat>& P = peel;
     const int S = P.fs.sp.count;
-    const float4 out = overOpaque(acc, T, P.hdr(px));
-    if (S == 1) {
-      P.hdr(px) = out;
-    } else {
-      sum = sum + out;
-      if (s + 1 == S) P.hdr(px) = sum * (1.0f / float(S));
+    const int64_t px = int64_t(Y) * P.width + X;
+    float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
+    for (int s = 0; s < S; ++s) {
+      float3 acc{0.0f, 0.0f, 0.0f};
+      float T = 1.0f;
+      op(s, P.opaque(px * S + s), acc, T);
+      const float4 out = overOpaque(acc, T, P.hdr(px));
+      if (S == 1) {
+        P.hdr(px) = out;
+      } else {
+        sum = sum + out;
+        if (s + 1 == S) P.hdr(px) = sum * (1.0f / float(S));
+      }
     }
   }
+  // The statistics: every fragment in front of the opaque depth.
   RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const {
-    // the statistics: every fragment in front of the opaque depth
     frags += cnt;
     if (cnt > peel.totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&peel.totals(kBlendMaxDepth), uint64_t(cnt));
+  }
+  // An entry's edge values at sample s of pixel (X, Y) (exact integers).
+  RAST_GPU_INLINE void edgesAt(const Entry& en, const int32_t X, const int32_t Y, const int s, int64_t (&v)[3]) const {
+    const Edges& e = en.tf.e;
+    const int32_t ox = peel.fs.sp.ox[s], oy = peel.fs.sp.oy[s];
+    for (int k = 0; k < 3; ++k) v[k] = e.atSample(k, e.eval(k, X, Y), ox, oy);
   }
 
   // Pixel (X, Y) of a block whose triangles keep one order at all its
   // samples: one walk in that order, each fragment composited as found.
   RAST_GPU_INLINE void pixelInOrder(const Entry* ent, const uint32_t* ord, const uint32_t n, const int32_t X,
                                     const int32_t Y, uint64_t& frags) const {
-    const FragShade& fs = peel.fs;
-    const int S = fs.sp.count;
-    const int64_t px = int64_t(Y) * peel.width + X;
-    float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
-    for (int s = 0; s < S; ++s) {
-      const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
-      const uint32_t opq = peel.opaque(px * S + s);
-      float3 acc{0.0f, 0.0f, 0.0f};
-      float T = 1.0f;
+    eachSample(X, Y, [&](const int s, const uint32_t opq, float3& acc, float& T) {
       uint32_t cnt = 0;
       for (uint32_t t = 0; t < n; ++t) {
         const Entry& en = ent[ord[t]];
-        const Edges& e = en.tf.e;
-        const int64_t s0 = e.atSample(0, e.eval(0, X, Y), ox, oy), s1 = e.atSample(1, e.eval(1, X, Y), ox, oy),
-                      s2 = e.atSample(2, e.eval(2, X, Y), ox, oy);
-        if (!e.inside(s0, s1, s2)) continue;
-        if (!(floatBits(en.dz.at(s0, s2)) < opq)) continue;  // LESS against the opaque depth
+        int64_t v[3];
+        edgesAt(en, X, Y, s, v);
+        if (!en.tf.e.inside(v[0], v[1], v[2])) continue;
+        if (!(floatBits(en.dz.at(v[0], v[2])) < opq)) continue;  // LESS against the opaque depth
         ++cnt;
         if (!(T > 0.0f)) continue;  // opaque already: counted, not shaded
-        const float4 c = fs.template shadeAt<kFam, kFeat>(X, Y, s, s0, s1, s2, en.a, en.tf, en.pt);
+        const float4 c = peel.fs.template shadeAt<kFam, kFeat>(X, Y, s, v[0], v[1], v[2], en.a, en.tf, en.pt);
         if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
       }
       count(cnt, frags);
-      store(px, s, acc, T, sum);
-    }
+    });
   }
 
   // Pixel (X, Y): row()'s passes over the scratch entries, key for key.
   RAST_GPU_INLINE void pixel(const Entry* ent, const uint32_t n, const int32_t X, const int32_t Y,
                              uint64_t& frags) const {
-    const Peel<kFam, kFeat>& P = peel;
-    const FragShade& fs = P.fs;
-    const int S = fs.sp.count;
-    const int64_t px = int64_t(Y) * P.width + X;
-    float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
-    for (int s = 0; s < S; ++s) {
-      const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
-      const uint32_t opq = P.opaque(px * S + s);
+    const bool sorted = peel.sorted != 0;
+    eachSample(X, Y, [&](const int s, const uint32_t opq, float3& acc, float& T) {
       uint64_t after = 0;  // every key is above 0
-      float3 acc{0.0f, 0.0f, 0.0f};
-      float T = 1.0f;
       for (bool more = n > 0, first = true; more; first = false) {
         uint64_t best[kPeelK];
         for (int k = 0; k < kPeelK; ++k) best[k] = kNoKey;
         uint32_t cnt = 0;
         for (uint32_t j = n; j-- > 0;) {  // last entry first, as row()
           const Entry& en = ent[j];
-          const Edges& e = en.tf.e;
-          const int64_t s0 = e.atSample(0, e.eval(0, X, Y), ox, oy), s1 = e.atSample(1, e.eval(1, X, Y), ox, oy),
-                        s2 = e.atSample(2, e.eval(2, X, Y), ox, oy);
-          if (!e.inside(s0, s1, s2)) continue;
-          const float z = en.dz.at(s0, s2);
+          int64_t v[3];
+          edgesAt(en, X, Y, s, v);
+          if (!en.tf.e.inside(v[0], v[1], v[2])) continue;
+          const float z = en.dz.at(v[0], v[2]);
           if (!(floatBits(z) < opq)) continue;  // LESS against the opaque depth
-          const uint64_t key = P.sorted ? (en.triKey | uint64_t(0xffffffffu - j)) : visKey(z, j);
+          const uint64_t key = sorted ? (en.triKey | uint64_t(0xffffffffu - j)) : visKey(z, j);
           if (key <= after) continue;  // composited by an earlier pass
           if (key < best[kPeelK - 1]) Peel<kFam, kFeat>::insert(best, key, cnt);
           ++cnt;
@@ -283,18 +280,16 @@ struct PeelTeam {
           const uint64_t key = best[kOnDevice ? 0 : k];
           if (kOnDevice)
             for (int q = 0; q + 1 < kPeelK; ++q) best[q] = best[q + 1];
-          const Entry& en = ent[keyIndex(key, P.sorted != 0)];
-          const Edges& e = en.tf.e;
-          const float4 c = fs.template shadeAt<kFam, kFeat>(X, Y, s, e.atSample(0, e.eval(0, X, Y), ox, oy),
-                                                            e.atSample(1, e.eval(1, X, Y), ox, oy),
-                                                            e.atSample(2, e.eval(2, X, Y), ox, oy), en.a, en.tf, en.pt);
+          const Entry& en = ent[keyIndex(key, sorted)];
+          int64_t v[3];
+          edgesAt(en, X, Y, s, v);
+          const float4 c = peel.fs.template shadeAt<kFam, kFeat>(X, Y, s, v[0], v[1], v[2], en.a, en.tf, en.pt);
           if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
         }
         more = cnt > uint32_t(kPeelK) && T > 0.0f;
         after = lastKey;
       }
-      store(px, s, acc, T, sum);
-    }
+    });
   }
 };
 
