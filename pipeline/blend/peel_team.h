@@ -106,6 +106,7 @@ struct PeelTeam {
     uint64_t frags = 0;
     uint32_t held = ~0u;  // the length of the list whose entries the scratch holds (~0u: none)
     if (m.team_rank() == 0) *sc.frags = 0;
+    m.team_barrier();  // before any thread adds to it (a run of long lists has no barrier of its own)
     for (int64_t block = b0; block < b1; ++block) resolveBlock(m, sc, block, held, frags);
     if (frags) Kokkos::atomic_add(sc.frags, frags);
     m.team_barrier();
