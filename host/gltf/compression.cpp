@@ -246,7 +246,15 @@ bool stubForTinygltf(nlohmann::json& doc, bool binary, const std::vector<unsigne
     const auto ext = b.find("extensions");
     if (b.contains("uri") || ext == b.end() || !ext->is_object()) continue;
     const auto mo = ext->find("EXT_meshopt_compression");
-    if (mo == ext->end() || !mo->is_object() || mo->value("fallback", false) != true) continue;
+    if (mo == ext->end() || !mo->is_object()) continue;
+    const auto fallback = mo->find("fallback");
+    if (fallback == mo->end()) continue;
+    // Checked here because the schema check leaves extension contents alone
+    // (json::value would throw its own exception type on a non-boolean).
+    if (!fallback->is_boolean())
+      throw Error("buffers[" + std::to_string(i) + "].extensions.EXT_meshopt_compression.fallback: expected a boolean, got " +
+                  std::string(fallback->type_name()));
+    if (!fallback->get<bool>()) continue;
     if (binary && i == 0) continue;  // the GLB's own BIN chunk
     b = {{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
     any = true;

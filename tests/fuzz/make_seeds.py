@@ -236,7 +236,7 @@ save("anim_bad_cycle.gltf", animated(cycle=True))
 # 12. compressed geometry (#40, docs/compression.md): a 3x3 grid of 8 triangles
 #     as EXT_meshopt_compression streams (with a fallback buffer holding no data)
 #     and as a KHR_draco_mesh_compression stream, then broken: meshopt bytes
-#     flipped, a Draco stream cut short, a meshopt view claiming 2^28 vertices
+#     flipped, a Draco stream cut short, a fallback flag that is a number, a meshopt view claiming 2^28 vertices
 #     (over a small budget, decoded size charged first). The streams were made by
 #     Debian's libmeshoptimizer 0.18 and libdraco 1.5.5 encoders (as
 #     tests/unit/test_compression.cpp makes its own).
@@ -247,7 +247,7 @@ DRACO = ("445241434f02020101000000090800080200037fda07ff011101ff0000010009030000
          "00000000803f0000803f0000003e0000003f0000803f0000803e000000000000803f00000000")
 
 
-def meshopt_doc(vb, ib, count=9):
+def meshopt_doc(vb, ib, count=9, fallback=True):
     vb, ib = bytes.fromhex(vb), bytes.fromhex(ib)
     pad = b"\0" * (-len(vb) % 4)
     blob = vb + pad + ib
@@ -259,7 +259,7 @@ def meshopt_doc(vb, ib, count=9):
             "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
             "extensionsUsed": ["EXT_meshopt_compression"], "extensionsRequired": ["EXT_meshopt_compression"],
             "buffers": [{"byteLength": len(blob), "uri": data_uri(blob)},
-                        {"byteLength": count * 12 + 96, "extensions": {"EXT_meshopt_compression": {"fallback": True}}}],
+                        {"byteLength": count * 12 + 96, "extensions": {"EXT_meshopt_compression": {"fallback": fallback}}}],
             "bufferViews": [{"buffer": 1, "byteLength": count * 12, "byteStride": 12, "extensions": ext(0, len(vb), 12, count, "ATTRIBUTES")},
                             {"buffer": 1, "byteOffset": count * 12, "byteLength": 96,
                              "extensions": ext(len(vb) + len(pad), len(ib), 4, 24, "TRIANGLES")}],
@@ -281,6 +281,7 @@ def draco_doc(stream):
 save("meshopt_grid.gltf", meshopt_doc(MO_VERTS, MO_INDICES))
 save("meshopt_bad_stream.gltf", meshopt_doc(MO_VERTS[:8] + "ff" * 40 + MO_VERTS[88:], MO_INDICES))
 save("meshopt_bad_count.gltf", meshopt_doc(MO_VERTS, MO_INDICES, count=1 << 28))
+save("meshopt_bad_fallback.gltf", meshopt_doc(MO_VERTS, MO_INDICES, fallback=1))
 save("draco_grid.gltf", draco_doc(DRACO))
 save("draco_bad_cut.gltf", draco_doc(DRACO[:len(DRACO) // 2]))
 

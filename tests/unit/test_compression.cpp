@@ -75,7 +75,7 @@ Scene plain(const Mesh& m, const TempDir& d) {
 
 // The grid with its positions and indices meshopt-encoded in buffer 0, read
 // through views of a fallback buffer 1 that holds no data.
-std::string meshoptFile(const Mesh& m, const TempDir& d, bool corrupt, bool glb = false) {
+std::string meshoptFile(const Mesh& m, const TempDir& d, bool corrupt, bool glb = false, const json& fallback = true) {
   const size_t nv = m.pos.size() / 3;
   std::vector<unsigned char> vb(meshopt_encodeVertexBufferBound(nv, 12));
   vb.resize(meshopt_encodeVertexBuffer(vb.data(), vb.size(), m.pos.data(), nv, 12));
@@ -103,7 +103,7 @@ std::string meshoptFile(const Mesh& m, const TempDir& d, bool corrupt, bool glb 
   json own = {{"byteLength", doc.bin.size()}};
   if (!glb) own["uri"] = "mo.bin";
   out["buffers"] = json::array({own, {{"byteLength", nv * 12 + m.idx.size() * 4},
-                                      {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
+                                      {"extensions", {{"EXT_meshopt_compression", {{"fallback", fallback}}}}}}});
   if (!glb) {
     d.write("mo.bin", doc.bin);
     return d.write("mo.gltf", out.dump());
@@ -162,6 +162,11 @@ TEST_CASE("compression: meshopt decodes to exactly the source's triangles", "[co
   CHECK(triangles(s) == triangles(ref));
   CHECK(triangles(loadGltf(meshoptFile(m, d, false, /*glb=*/true))) == triangles(ref));
   CHECK_THAT(loadError(meshoptFile(m, d, true)), Contains("EXT_meshopt_compression: the compressed stream is corrupt"));
+  // A fallback flag that is not a boolean (found by fuzz_loader: it ended the
+  // process with nlohmann's type_error) is named, in a text and a binary file.
+  for (const bool glb : {false, true})
+    CHECK_THAT(loadError(meshoptFile(m, d, false, glb, 1)),
+               Contains("buffers[1].extensions.EXT_meshopt_compression.fallback: expected a boolean, got number"));
 }
 
 TEST_CASE("compression: Draco decodes to the source's triangles", "[compression]") {
