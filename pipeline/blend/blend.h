@@ -7,7 +7,7 @@
 //     raster methods: a discarded fragment never wins, whatever the method.
 //   * blendCollect (before shading: it reads the opaque depth) and blendResolve
 //     (after it: composites over the shaded opaque colour in the float film);
-//     exact and sorted: tile lists and peeling in registers (blend_tiles.cpp).
+//     exact, sorted and weighted: tile lists walked per sample (blend_tiles.cpp).
 #pragma once
 
 #include "pipeline/shade/shade.h"
@@ -19,7 +19,17 @@ struct BlendPlan {
   bool mask = false, blend = false;          // the scene draws MASK / BLEND triangles
   Transparency method = Transparency::Exact;  // never Auto
   int k = 8;                                  // kbuffer
+  // The method walks tile lists (exact and sorted always; weighted unless
+  // its lists would exceed the memory budget, then its fixed-memory sums).
+  bool lists = true;
 };
+
+// Whether `method` walks tile lists, `fallback` telling that they would
+// exceed the budget (exact and sorted then become kbuffer: chooseTransparency).
+inline bool walksTileLists(Transparency method, bool fallback) {
+  return method == Transparency::Exact || method == Transparency::Sorted ||
+         (method == Transparency::Weighted && !fallback);
+}
 
 void alphaWorkLists(const DeviceScene& s, FrameBuffers& f, const BlendPlan& b);
 void rasterMask(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p);
@@ -31,8 +41,8 @@ void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
                   const BlendPlan& b);
 
 // Device bytes per sample of a method's fixed buffers (opaque depth and
-// block counts, k-buffer, weighted sums), and per entry of the exact and
-// sorted methods' tile lists (grown to the frame's need): for the memory budget.
+// block counts, k-buffer, weighted sums), and per entry of the listed
+// methods' tile lists (grown to the frame's need): for the memory budget.
 uint64_t blendBytesPerSample(const BlendPlan& b);
 constexpr uint64_t kBytesPerListEntry = sizeof(uint32_t);
 

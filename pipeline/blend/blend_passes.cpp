@@ -1,15 +1,16 @@
 // The BLEND passes (blend.h, docs/transparency.md). Collect, after the opaque
-// raster and before shading: the exact and sorted methods build their tile
-// lists (blend_tiles.cpp); for the others every fragment of a BLEND triangle
-// that lies in front of the opaque depth of its sample (LESS, not written)
-// and has an alpha above 0 is
+// raster and before shading: exact, sorted and weighted build their tile
+// lists (blend_tiles.cpp); for the fixed-memory methods every fragment of a
+// BLEND triangle that lies in front of the opaque depth of its sample (LESS,
+// not written) and has an alpha above 0 is
 //   kbuffer:  inserted among the sample's k nearest keys by a cascade of
 //             atomic minima (which leaves the k smallest whatever the order);
 //             a key pushed out is shaded and merged into the weighted sums;
-//   weighted: shaded at once and summed with McGuire and Bavoil's weight.
+//   weighted, when its lists would exceed the memory budget: shaded at once
+//             and summed with McGuire and Bavoil's weight.
 // Resolve, after shading into the float film: per sample, the fragments in
 // key order composited front to back with "over" (premultiplied, linear
-// light) over the opaque colour, the samples averaged (exact and sorted:
+// light) over the opaque colour, the samples averaged (the listed methods:
 // blend_tiles.cpp, peeling the tile lists in registers).
 #include "pipeline/blend/frag_shade.h"
 #include "pipeline/data/test_hooks.h"
@@ -29,7 +30,7 @@ KOKKOS_INLINE_FUNCTION void addWeighted(float4& acc, float& rev, const float4 c,
   Kokkos::atomic_fetch_mul(&rev, 1.0f - c.w);
 }
 
-// The collect and resolve passes are compiled for the frame's fragment
+// The fixed-memory collect and resolve passes are compiled for the frame's fragment
 // family and features (frag_shade.h), as the exact resolve is: every method
 // shades a fragment with the same code, so that kbuffer with k >= layers
 // keeps exact's bits on every backend.
@@ -111,11 +112,7 @@ struct Resolve {
       float3 acc{0.0f, 0.0f, 0.0f};
       float T = 1.0f;
       if (method == int32_t(Transparency::Weighted)) {
-        const float4 w = accum(q);
-        if (w.w > 0.0f) {
-          T = reveal(q);
-          acc = float3{w.x, w.y, w.z} * ((1.0f - T) / w.w);
-        }
+        weightedFront(accum(q), reveal(q), acc, T);
       } else if (method == int32_t(Transparency::KBuffer)) {
         const uint64_t* sl = slots.data() + size_t(q) * size_t(k);
         for (int j = 0; j < k && sl[j] != kEmptySlot && T > 0.0f; ++j)
@@ -187,16 +184,17 @@ FragFamily blending::fragFamily(const FragShade& fs) {
 }
 
 uint64_t blendBytesPerSample(const BlendPlan& b) {
+  // The listed methods: the opaque depth, and a count and an end per 8x8
+  // block (a byte a pixel, rounded up); the tile lists themselves: lastFrameFit.
+  constexpr uint64_t listed = sizeof(uint32_t) + 1;
   switch (b.method) {
     case Transparency::Exact:
     case Transparency::Sorted:
-      // the opaque depth, and a count and an end per 8x8 block (a byte a
-      // pixel, rounded up); the tile lists themselves: lastFrameFit
-      return sizeof(uint32_t) + 1;
+      return listed;  // always listed (over the budget they become kbuffer)
     case Transparency::KBuffer:
       return uint64_t(b.k) * sizeof(uint64_t) + sizeof(float4) + sizeof(float);
     case Transparency::Weighted:
-      return sizeof(float4) + sizeof(float);
+      return b.lists ? listed : sizeof(float4) + sizeof(float);
     case Transparency::Auto:
       break;
   }
@@ -207,15 +205,15 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
                   const BlendPlan& b, const DView<uint64_t>& opaqueKeys) {
   BlendBuffers& bb = f.blend;
   const size_t n = size_t(f.vp.width) * size_t(f.vp.height) * size_t(f.vp.samples.count);
-  const bool exact = b.method == Transparency::Exact || b.method == Transparency::Sorted;
   auto totals = bb.totals;
   Kokkos::parallel_for("rast::blend::clear_totals", Range(0, 1), KOKKOS_LAMBDA(const int) {
     totals(kBlendFrags) = 0;
     totals(kBlendMaxDepth) = 0;
     totals(kBlendLongest) = 0;
   });
-  if (exact) {
-    tileLists(f, opaqueKeys);
+  if (b.lists) {
+    const bool weighted = b.method == Transparency::Weighted;
+    tileLists(f, opaqueKeys, weighted, weighted ? fragFamily(makeFragShade(s, f, p, lights)) : kFragGeneral);
     return;
   }
   ensureCapacity(bb.accum, "blend.accum", n);
@@ -235,8 +233,8 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
 
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                   const BlendPlan& b) {
-  if (b.method == Transparency::Exact || b.method == Transparency::Sorted) {
-    peelResolve(s, f, p, lights, b.method == Transparency::Sorted);
+  if (b.lists) {
+    peelResolve(s, f, p, lights, b.method);
     return;
   }
   const int32_t runs = (f.vp.width + kResolveRun - 1) / kResolveRun;

@@ -143,6 +143,28 @@ KOKKOS_INLINE_FUNCTION float4 overOpaque(const float3 acc, float T, const float4
   return float4{acc.x + T * opq.x, acc.y + T * opq.y, acc.z + T * opq.z, 1.0f - T * (1.0f - opq.w)};
 }
 
+// Weighted blended OIT (McGuire and Bavoil 2013): a fragment's terms of the
+// sample's sums (premultiplied colour and alpha times its weight w) and of
+// its revealage (the product of 1 - alpha); from them, what lies in front:
+// the sums' average colour at coverage 1 - revealage. The tile lists' walk
+// (peel.h) adds the terms in raster-index order; the fixed-memory collect
+// (blend_passes.cpp) adds the same terms with atomics, in any order.
+KOKKOS_INLINE_FUNCTION void weightedTerms(float4& sum, float& reveal, const float4 c, const float w) {
+  sum.x += c.x * c.w * w;
+  sum.y += c.y * c.w * w;
+  sum.z += c.z * c.w * w;
+  sum.w += c.w * w;
+  reveal *= 1.0f - c.w;
+}
+KOKKOS_INLINE_FUNCTION void weightedFront(const float4 sum, const float reveal, float3& acc, float& T) {
+  acc = float3{0.0f, 0.0f, 0.0f};
+  T = 1.0f;
+  if (sum.w > 0.0f) {
+    T = reveal;
+    acc = float3{sum.x, sum.y, sum.z} * ((1.0f - T) / sum.w);
+  }
+}
+
 // The resolves' per-thread lookups (AlphaTri, TriFrag, and PbrTri for the
 // glTF shading) of the last N triangles shaded: the layers over neighbouring
 // pixels are mostly the same few triangles, and one entry re-prepared for each
@@ -236,11 +258,13 @@ void withFragPath(const FragShade& fs, Go&& go) {
 
 FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
 
-// The exact and sorted methods (blend_tiles.cpp): the tile lists, built
-// before shading (they read the opaque depth), and the resolve after it.
-void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys);
+// The methods that walk tile lists (blend_tiles.cpp: exact, sorted,
+// weighted): the lists, built before shading (they read the opaque depth;
+// weighted's in raster-index order, for the resolve of fragment family
+// `fam`), and the resolve after it.
+void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, bool rasterOrder, FragFamily fam);
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                 bool sorted);
+                 Transparency method);
 
 }  // namespace blending
 }  // namespace rast

@@ -1,12 +1,13 @@
-// The exact and sorted methods' resolve, a pixel (GPU) or a block's row (CPU)
-// a thread (docs/transparency.md, "exact and sorted: tile lists, peeled in
+// The listed methods' resolve, a pixel (GPU) or a block's row (CPU) a thread
+// (docs/transparency.md, "exact and sorted: tile lists, peeled in
 // registers"): per sample its block's list walked with the raster methods'
 // edge and depth arithmetic, LESS against the opaque depth; the K smallest
 // keys above the last pass's largest kept in a small sorted array and
 // composited front to back; a sample with more than K fragments, still not
-// opaque, walks the list again (depth peeling, in registers). Apart from
-// blend_tiles.cpp, which builds the lists and launches this, and
-// peel_team.h, the GPU's team form, which falls back on it for long lists.
+// opaque, walks the list again (depth peeling, in registers). weighted walks
+// the list once, summing (rowWeighted). Apart from blend_tiles.cpp, which
+// builds the lists and launches this, and peel_team.h, the GPU's team form,
+// which falls back on it for long lists.
 #pragma once
 
 #include "pipeline/blend/frag_shade.h"
@@ -42,6 +43,7 @@ struct Peel {
   uint64_t tileCapacity;
   int32_t width, height, blocksX, sorted;
   int32_t lambertLanes = 0;  // Lambert under the headlight (compositeLanes)
+  int32_t weighted = 0;      // weighted: rowWeighted's sums instead of the peel
 
   // sorted's key: its triangle's, whatever the sample.
   RAST_GPU_INLINE uint64_t sortedKeyOf(uint32_t i) const {
@@ -97,11 +99,50 @@ struct Peel {
   // expressions in its order, the same bits), each pixel still composited
   // front to back and stopped where it is opaque. Others one at a time.
   static constexpr bool kLanes = !kOnDevice && kFam == kFragLit && kFeat == 0;
+  // The colours of triangle tri's fragments at sample s of pixels x0 +
+  // lane[j] of row Y (j < m), lit together where the triangle is untextured
+  // and the scene has no vertex colours (alpha 0 or NaN: all zero, no
+  // fragment); false where it is not (the caller shades them one at a time).
+  KOKKOS_INLINE_FUNCTION bool litLanes(const uint32_t tri, const int32_t x0, const int32_t Y, const int s,
+                                       const int (&lane)[kPeelRun], const int m, PeelCache& cache,
+                                       float4 (&out)[kPeelRun]) const {
+    using shading::SpanConsts;
+    const int e = cache.slot(tri);
+    if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
+    fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
+    cache.evS[e] = -1;  // its stepped edge values are not this row's
+    const AlphaTri& a = cache.a[e];
+    const TriFrag& f = cache.tf[e];
+    if (a.textured || fs.sc.hasColor || f.textured) return false;
+    const float alpha = cleanAlpha(a.alpha);  // AlphaScene::alphaFrom of a constant alpha
+    if (!(alpha > 0.0f)) {
+      for (int j = 0; j < m; ++j) out[j] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+      return true;
+    }
+    // The edge values at the sample of pixel (X, Y) (Edges::atSample),
+    // exact integers in double; the headlight's lighting.
+    SpanConsts c;
+    fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
+                   1.0f - fs.sh.p.ambient);
+    alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
+    alignas(32) float b0[kPeelRun], b1[kPeelRun], b2[kPeelRun], nx[kPeelRun], ny[kPeelRun], nz[kPeelRun],
+        diffuse[kPeelRun];
+    for (int j = 0; j < m; ++j) {
+      X[j] = x0 + lane[j];
+      Ys[j] = Y;
+    }
+    shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
+    const float4 base = f.baseColor;
+    for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)
+      const float3 rgb = float3{base.x, base.y, base.z} * diffuse[j] + float3{0.0f, 0.0f, 0.0f};
+      out[j] = float4{rgb.x, rgb.y, rgb.z, alpha};
+    }
+    return true;
+  }
   KOKKOS_INLINE_FUNCTION void compositeLanes(const int32_t x0, const int32_t Y, const int s, const int32_t run,
                                              const uint64_t (&best)[kPeelRun][kPeelK], const uint32_t (&cnt)[kPeelRun],
                                              const bool (&more)[kPeelRun], float3 (&acc)[kPeelRun],
                                              float (&T)[kPeelRun], PeelCache& cache) const {
-    using shading::SpanConsts;
     for (int k = 0; k < kPeelK; ++k) {
       int32_t m = 0;
       int lane[kPeelRun];
@@ -116,33 +157,10 @@ struct Peel {
       }
       if (m == 0) break;
       if (same && m > 1) {
-        const int e = cache.slot(tri);
-        if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
-        fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
-        cache.evS[e] = -1;  // its stepped edge values are not this row's
-        const AlphaTri& a = cache.a[e];
-        const TriFrag& f = cache.tf[e];
-        if (!a.textured && !fs.sc.hasColor && !f.textured) {
-          const float alpha = cleanAlpha(a.alpha);  // AlphaScene::alphaFrom of a constant alpha
-          if (!(alpha > 0.0f)) continue;           // no fragment
-          // The edge values at the sample of pixel (X, Y) (Edges::atSample),
-          // exact integers in double; the headlight's lighting.
-          SpanConsts c;
-          fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
-                         1.0f - fs.sh.p.ambient);
-          alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
-          alignas(32) float b0[kPeelRun], b1[kPeelRun], b2[kPeelRun], nx[kPeelRun], ny[kPeelRun], nz[kPeelRun],
-              diffuse[kPeelRun];
-          for (int j = 0; j < m; ++j) {
-            X[j] = x0 + lane[j];
-            Ys[j] = Y;
-          }
-          shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
-          const float4 base = f.baseColor;
-          for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)
-            const float3 rgb = float3{base.x, base.y, base.z} * diffuse[j] + float3{0.0f, 0.0f, 0.0f};
-            over(acc[lane[j]], T[lane[j]], float4{rgb.x, rgb.y, rgb.z, alpha});
-          }
+        float4 col[kPeelRun];
+        if (litLanes(tri, x0, Y, s, lane, m, cache, col)) {
+          for (int j = 0; j < m; ++j)
+            if (col[j].w > 0.0f) over(acc[lane[j]], T[lane[j]], col[j]);  // alpha 0 (or NaN): no fragment
           continue;
         }
       }
@@ -157,6 +175,10 @@ struct Peel {
   // Pixels x0 .. x0 + run - 1 of row Y, whose block's list is [begin, end).
   RAST_GPU_INLINE void row(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
                                   const uint32_t end, PeelCache& cache, uint64_t& frags) const {
+    if (weighted) {
+      rowWeighted(x0, Y, run, begin, end, cache, frags);
+      return;
+    }
     const int S = fs.sp.count;
     float4 sum[kPeelRun];
     for (int r = 0; r < kPeelRun; ++r) sum[r] = float4{0.0f, 0.0f, 0.0f, 0.0f};
@@ -254,8 +276,79 @@ struct Peel {
       }
     }
   }
-};
 
+  // The statistics: a sample's fragments in front of the opaque depth.
+  RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const {
+    frags += cnt;
+    if (cnt > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt));
+  }
+
+  // weighted: pixels x0 .. x0 + run - 1 of row Y, one walk of the list (in
+  // raster-index order: tiles_sort), every fragment in front of the opaque
+  // depth with an alpha above 0 added to its sample's sums (weightedTerms,
+  // McGuire and Bavoil's weight at its depth), in registers: no atomics, the
+  // same terms in the same order whatever the thread schedule. On a CPU
+  // under the headlight's Lambert a triangle's fragments along the row are
+  // lit together (litLanes).
+  RAST_GPU_INLINE void rowWeighted(const int32_t x0, const int32_t Y, const int32_t run, const uint32_t begin,
+                                   const uint32_t end, PeelCache& cache, uint64_t& frags) const {
+    const int S = fs.sp.count;
+    float4 sum[kPeelRun];
+    for (int r = 0; r < kPeelRun; ++r) sum[r] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+    for (int s = 0; s < S; ++s) {
+      float4 w[kPeelRun];
+      float reveal[kPeelRun];
+      uint32_t cnt[kPeelRun], opq[kPeelRun];
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        w[r] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+        reveal[r] = 1.0f;
+        cnt[r] = 0;
+        opq[r] = opaque((int64_t(Y) * width + x0 + r) * S + s);
+      }
+      for (uint32_t j = begin; j < end; ++j) {
+        const uint32_t i = tileTris(j);
+        const RasterTri& t = fs.sc.tris(i);
+        const Edges e(t);
+        const DepthTerms dz(t);
+        const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+        int64_t s0 = e.atSample(0, e.eval(0, x0, Y), ox, oy), s1 = e.atSample(1, e.eval(1, x0, Y), ox, oy),
+                s2 = e.atSample(2, e.eval(2, x0, Y), ox, oy);
+        int lane[kPeelRun];
+        float z[kPeelRun];
+        int m = 0;
+        for (int r = 0; r < kPeelRun && r < run; ++r, s0 += e.A[0], s1 += e.A[1], s2 += e.A[2]) {
+          if (!e.inside(s0, s1, s2)) continue;
+          z[m] = dz.at(s0, s2);
+          if (!(floatBits(z[m]) < opq[r])) continue;  // LESS against the opaque depth
+          ++cnt[r];
+          lane[m++] = r;
+        }
+        float4 col[kPeelRun];
+        bool lit = false;
+        if constexpr (kLanes) lit = lambertLanes && m > 1 && litLanes(i, x0, Y, s, lane, m, cache, col);
+        for (int k = 0; k < m; ++k) {
+          const int r = lane[k];
+          const float4 c = lit ? col[k] : cache.template at<kFeat>(fs, i, x0 + r, Y, s);
+          if (c.w > 0.0f) weightedTerms(w[r], reveal[r], c, fs.weight(z[k]));  // alpha 0 (or NaN): no fragment
+        }
+      }
+      for (int r = 0; r < kPeelRun && r < run; ++r) {
+        count(cnt[r], frags);
+        float3 acc;
+        float T;
+        weightedFront(w[r], reveal[r], acc, T);
+        const int64_t i = int64_t(Y) * width + x0 + r;
+        const float4 out = overOpaque(acc, T, hdr(i));
+        if (S == 1) {
+          hdr(i) = out;
+        } else {
+          sum[r] = sum[r] + out;
+          if (s + 1 == S) hdr(i) = sum[r] * (1.0f / float(S));
+        }
+      }
+    }
+  }
+};
 
 }  // namespace blending
 }  // namespace rast

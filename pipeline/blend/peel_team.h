@@ -1,4 +1,4 @@
-// The exact and sorted methods' resolve on GPUs, a team per 8x8 block
+// The listed methods' resolve on GPUs, a team per 8x8 block
 // (docs/transparency.md, "On a GPU: a team a block"); host backends run it
 // under TestHooks::teamResolve. Its own file: it sets a block's list up in
 // team scratch and orders it, where peel.h walks the list a pixel a thread.
@@ -51,8 +51,10 @@ KOKKOS_INLINE_FUNCTION void blockDepthRange(const Edges& e, const DepthTerms& dz
 // pixel keeps the K nearest keys and peels as row() does, with keys that end
 // in the triangle's place in the list instead of its raster index (the list
 // is in raster-index order: the same order). Either way the same fragments
-// are composited in the same order as by the plain form: the same bits. A
-// list longer than the scratch holds is resolved the plain way.
+// are composited in the same order as by the plain form: the same bits.
+// weighted needs no order: each pixel sums the entries in raster-index order,
+// as the plain form sums its sorted list. A list longer than the scratch
+// holds is resolved the plain way.
 template <int kFam, int kFeat>
 struct PeelTeam {
   struct Entry {
@@ -165,6 +167,14 @@ struct PeelTeam {
       m.team_barrier();  // an entry's range below is another thread's set-up
     }
     held = n;
+    if (P.weighted) {
+      for (int p = me; p < kPixels; p += nThreads) {
+        const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
+        if (X < P.width && Y < P.height) pixelWeighted(ent, n, X, Y, frags);
+      }
+      m.team_barrier();  // the scratch is the next block's
+      return;
+    }
     // Each entry's depth range over this block, and its key in the block's
     // order: sorted's key (as the keys below); exact: the range's start, ties
     // by raster index.
@@ -220,10 +230,7 @@ struct PeelTeam {
     }
   }
   // The statistics: every fragment in front of the opaque depth.
-  RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const {
-    frags += cnt;
-    if (cnt > peel.totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&peel.totals(kBlendMaxDepth), uint64_t(cnt));
-  }
+  RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const { peel.count(cnt, frags); }
   // An entry's edge values at sample s of pixel (X, Y) (exact integers).
   RAST_GPU_INLINE void edgesAt(const Entry& en, const int32_t X, const int32_t Y, const int s, int64_t (&v)[3]) const {
     const Edges& e = en.tf.e;
@@ -249,6 +256,30 @@ struct PeelTeam {
         if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
       }
       count(cnt, frags);
+    });
+  }
+
+  // weighted, pixel (X, Y): rowWeighted's sums over the entries, in
+  // raster-index order.
+  RAST_GPU_INLINE void pixelWeighted(const Entry* ent, const uint32_t n, const int32_t X, const int32_t Y,
+                                     uint64_t& frags) const {
+    eachSample(X, Y, [&](const int s, const uint32_t opq, float3& acc, float& T) {
+      float4 w{0.0f, 0.0f, 0.0f, 0.0f};
+      float reveal = 1.0f;
+      uint32_t cnt = 0;
+      for (uint32_t r = 0; r < n; ++r) {
+        const Entry& en = ent[r];
+        int64_t v[3];
+        edgesAt(en, X, Y, s, v);
+        if (!en.tf.e.inside(v[0], v[1], v[2])) continue;
+        const float z = en.dz.at(v[0], v[2]);
+        if (!(floatBits(z) < opq)) continue;  // LESS against the opaque depth
+        ++cnt;
+        const float4 c = peel.fs.template shadeAt<kFam, kFeat>(X, Y, s, v[0], v[1], v[2], en.a, en.tf, en.pt);
+        if (c.w > 0.0f) weightedTerms(w, reveal, c, peel.fs.weight(z));  // alpha 0 (or NaN): no fragment
+      }
+      count(cnt, frags);
+      weightedFront(w, reveal, acc, T);
     });
   }
 
@@ -293,6 +324,14 @@ struct PeelTeam {
     });
   }
 };
+
+// The entries that every team's scratch holds, whatever the fragment family
+// (the smaller scratch, the larger entries): a list no longer is always
+// resolved from scratch, whose entries are in raster-index order.
+constexpr uint32_t kTeamEntriesAlways =
+    PeelTeam<kFragLit, 0>::entriesIn(kBlendTeamScratchBytes) < PeelTeam<kFragPbr, 0>::entriesIn(kBlendTeamScratchBytes)
+        ? PeelTeam<kFragLit, 0>::entriesIn(kBlendTeamScratchBytes)
+        : PeelTeam<kFragPbr, 0>::entriesIn(kBlendTeamScratchBytes);
 
 }  // namespace blending
 }  // namespace rast

@@ -133,6 +133,7 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   p.blend.blend = in.blendPasses && p.fill;
   p.blend.method = chooseTransparency(rs, in.blendFallback);
   p.blend.k = rs.blendK;
+  p.blend.lists = walksTileLists(p.blend.method, in.blendFallback);
   // A transparent background (alpha < 1): the film keeps alpha, premultiplied.
   p.film = p.film || (in.blendFilm && p.fill) || rs.background.w < 1.0f;
   p.lines = makeLinePass(*in.scene, rs);
@@ -155,7 +156,7 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   p.key = settingsKey(rs) + testHooks().key();
   for (uint64_t v : {uint64_t(p.method), uint64_t(p.autoStats), uint64_t(p.occluders), uint64_t(p.rowLanes),
                      uint64_t(f.visClear), uint64_t(in.supersampling), uint64_t(f.triCapacity), uint64_t(f.workCapacity),
-                     uint64_t(p.blend.method), f.blend.tileCapacity})
+                     uint64_t(p.blend.method), uint64_t(p.blend.lists), f.blend.tileCapacity})
     p.key.append(reinterpret_cast<const char*>(&v), sizeof v);
   return p;
 }

@@ -74,7 +74,7 @@ struct PlanInputs {
   AutoStats stats;
   bool statsDue = false;       // auto: this frame runs the statistics pass
   bool supersampling = false;  // a pass of a supersampled frame: film, no post chain
-  bool blendFallback = false;  // the exact fragment store would exceed the memory budget: kbuffer
+  bool blendFallback = false;  // the tile lists would exceed the memory budget (chooseTransparency, walksTileLists)
   bool keepKeys = false;       // a split frame (renderer.h): keys are exchanged before shading, never fused
   // BLEND (renderer.h): this renderer runs the passes; frames render to the
   // film for them (under a split, on every part when the whole scene blends).

@@ -114,6 +114,7 @@ void Renderer::checkFrameBudget(const RenderSettings& rs) const {
     BlendPlan b;
     b.method = chooseTransparency(rs, blendFallback_);
     b.k = rs.blendK;
+    b.lists = walksTileLists(b.method, blendFallback_);
     perPixel += uint64_t(msaa) * blendBytesPerSample(b);
   }
   if (rs.post.ssao) perPixel += sizeof(float4) + 3 * sizeof(float);  // geometry, depth, AO and its blur
@@ -427,18 +428,19 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     frame_.tris = allocUninit<RasterTri>("frame.tris", frame_.triCapacity);
     fit = false;
   }
-  // The exact and sorted methods' tile lists: grown to the frame's need, or,
-  // when that would exceed the budget, the frame is drawn with kbuffer
-  // instead (FrameStats::blendFallback says so), whose fixed buffers must fit.
+  // The listed methods' tile lists: grown to the frame's need, or, when that
+  // would exceed the budget, the frame is drawn with kbuffer instead (weighted:
+  // its fixed-memory sums; FrameStats::blendFallback says so), whose fixed
+  // buffers must fit.
   if (fit && plan_.blend.blend) {
     auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.blend.totals);
-    const bool listed = plan_.blend.method == Transparency::Exact || plan_.blend.method == Transparency::Sorted;
+    const bool listed = plan_.blend.lists;
     if (listed) {
       blendNeed_ = t(kBlendFrags);
       frame_.blend.longestList = t(kBlendLongest);
     }
     if (stats) {
-      stats->blendFragments = blendNeed_;  // kbuffer and weighted count none: the last exact frame's
+      stats->blendFragments = blendNeed_;  // the fixed-memory passes count none: the last listed frame's
       stats->blendMaxDepth = t(kBlendMaxDepth);
       stats->transparency = plan_.blend.method;
       stats->blendFallback = blendFallback_;
@@ -456,11 +458,12 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
         frame_.blend.tileTris = frame_.blend.tileCount = frame_.blend.tileEnd = frame_.blend.opaque = DView<uint32_t>();
         frame_.blend.tileCapacity = 0;
         BlendPlan k = plan_.blend;
-        k.method = Transparency::KBuffer;
+        if (k.method != Transparency::Weighted) k.method = Transparency::KBuffer;  // as chooseTransparency
+        k.lists = false;
         MemoryLedger held(budget_);
         held.charge("the scene and frame buffers", deviceBytes());
-        held.check("the k-buffer that replaces the transparency's tile lists (" + std::to_string(need) +
-                         " entries do not fit)",
+        held.check(std::string(k.method == Transparency::Weighted ? "the weighted sums" : "the k-buffer") +
+                         " that replace the transparency's tile lists (" + std::to_string(need) + " entries do not fit)",
                      mulSat(uint64_t(frame_.vp.width) * uint64_t(frame_.vp.height) * uint64_t(frame_.vp.samples.count),
                             blendBytesPerSample(k)));
       }

@@ -185,7 +185,7 @@ class Renderer {
   bool countersPublished_ = false;
   void hostCounters();  // countersHost_ sized to the counters
   bool supersampling_ = false;
-  bool blendFallback_ = false;  // the exact tile lists would exceed the budget: kbuffer (lastFrameFit)
+  bool blendFallback_ = false;  // the tile lists would exceed the budget: kbuffer, weighted's sums (lastFrameFit)
   uint64_t blendNeed_ = 0;      // BLEND fragments the last exact or sorted frame composited  // inside renderSupersampled: passes shade to the film, no post chain
   std::unique_ptr<FrameGraphs> graphs_;  // recorded frames, per settings (backends/frame_graphs.h)
 

@@ -3,9 +3,9 @@
 gives the same bytes under every raster method, sample count and backend (the
 OpenMP rast and its Serial twin); the unlit arithmetic check (blue at alpha 0.5
 over opaque red is (0.5, 0, 0.5) in linear light, sRGB 188) holds under every
-method; `--background transparent` writes straight-alpha RGBA; exact's and
-sorted's films do not depend on the number of threads (their tile lists'
-order does); a bad method name is one error line; `sorted` gives the image of
+method; `--background transparent` writes straight-alpha RGBA; exact's,
+sorted's and weighted's films do not depend on the number of threads (their
+tile lists' order does); a bad method name is one error line; `sorted` gives the image of
 the hardware rasterizer drawing the same glTF files the way engines do (BLEND
 draws sorted back to front by their centre, blended premultiplied into an
 RGBA32F framebuffer: scripts/measure/glblend, built here from ../shared's glref
@@ -73,12 +73,14 @@ for aa in ["none", "msaa4"]:
             elif img != first[2]:
                 failures.append(f"exact {aa}: {name}/{method} differs from {first[0]}/{first[1]}")
 
-# exact and sorted: the order of a block's tile list follows the thread
-# schedule; the film must not. 40 mixed, intersecting layers (more than the
-# K keys a sample keeps per pass: peeled), under 1, 2 and (where the machine
-# has them; rast refuses more threads than hardware threads) 4 OpenMP threads.
+# exact, sorted and weighted: the order of a block's tile list follows the
+# thread schedule; the film must not (weighted sorts its lists: its sums add
+# their terms in raster-index order). 40 mixed, intersecting layers (more
+# than the K keys a sample keeps per pass: peeled), under 1, 2 and (where the
+# machine has them; rast refuses more threads than hardware threads) 4 OpenMP
+# threads.
 thread_counts = ["1", "2"] + (["4"] if (os.cpu_count() or 1) >= 4 else [])
-for method in ["exact", "sorted"]:
+for method in ["exact", "sorted", "weighted"]:
     films = {}
     for threads in thread_counts:
         out = os.path.join(args.workdir, f"order_{method}_{threads}.pfm")

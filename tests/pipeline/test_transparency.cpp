@@ -4,7 +4,8 @@
 // pinned to its bound; more layers than a resolve pass keeps are peeled bit
 // for bit; the passes' specialised fragment shading gives the general one's
 // bits; an opaque scene allocates nothing for them; tile lists over the
-// memory budget fall back to kbuffer and say so.
+// memory budget fall back to kbuffer (weighted to its fixed-memory sums) and
+// say so.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -272,8 +273,9 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   // walked once in that order), intersecting ones (12: peeled keys from the
   // list in scratch; 40: the lists along the quads' diagonals outgrow it and
   // take the plain walk), coplanar ones (ordered by raster index), a
-  // vertex-coloured BLEND quad; one and four samples; exact and sorted; the
-  // statistics too.
+  // vertex-coloured BLEND quad; one and four samples; exact, sorted and
+  // weighted (its sums in raster-index order: the list sorted, or the
+  // entries in scratch); the statistics too.
   struct Team {
     Team() { testHooks().teamResolve = true; }
     ~Team() { testHooks().teamResolve = false; }
@@ -284,7 +286,7 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
     const Scene s = builtinScene(name);
     for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr})
       for (int msaa : {1, 4})
-        for (Transparency t : {Transparency::Exact, Transparency::Sorted}) {
+        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
           INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
           RenderSettings rs = small();
           rs.shading = mode;
@@ -318,7 +320,8 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   CHECK(sameBits(first, r.filmBottomUp()));
 }
 
-TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer and say so", "[transparency][blend]") {
+TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer (weighted: its fixed sums) and say so",
+          "[transparency][blend]") {
   {  // the statistics the tile lists' resolve reduces
     const Scene s = builtinScene("builtin:layers?n=64&alpha=0.2");
     RenderSettings rs = small(320, 180);
@@ -356,6 +359,24 @@ TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer and say
   CHECK(tight.blendFallback);
   CHECK(tight.transparency == Transparency::KBuffer);
   CHECK(maxDiff(f, kbuf) < 1e-5);  // the merged rest is summed with float atomics: any order
+  // weighted walks the same lists (counting the same fragments), and over
+  // the budget keeps its method with McGuire and Bavoil's fixed per-sample
+  // sums: the same terms, added with atomics in any order.
+  {
+    RenderSettings w = rs;
+    w.transparency = Transparency::Weighted;
+    FrameStats listed, fixed;
+    const std::vector<rast::float4> a = film(s, w, &listed);
+    CHECK(!listed.blendFallback);
+    CHECK(listed.transparency == Transparency::Weighted);
+    CHECK(listed.blendFragments == ex.blendFragments);
+    CHECK(listed.blendMaxDepth == ex.blendMaxDepth);
+    const std::vector<rast::float4> b = film(s, w, &fixed, budget);
+    CHECK(fixed.deviceBytes <= budget);
+    CHECK(fixed.blendFallback);
+    CHECK(fixed.transparency == Transparency::Weighted);
+    CHECK(maxDiff(a, b) < 1e-5);
+  }
   // A budget that holds neither: one clear error, no silent cap.
   CHECK_THROWS_AS(film(s, rs, nullptr, kb.deviceBytes - 100000), Error);
 }
