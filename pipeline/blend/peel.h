@@ -233,10 +233,7 @@ struct Peel {
         const bool lanes = kLanes && lambertLanes && run > 1;
         for (int r = 0; r < kPeelRun && r < run; ++r) {
           if (!more[r]) continue;
-          if (first) {  // the statistics: every fragment in front of the opaque depth
-            frags += cnt[r];
-            if (cnt[r] > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt[r]));
-          }
+          if (first) count(cnt[r], frags);  // the statistics: every fragment in front of the opaque depth
           if (lanes) continue;  // composited below, the run's pixels together
           // Front to back: on a GPU the nearest taken from the front of the
           // array and the rest shifted up (compile-time indices, one shading
