@@ -40,12 +40,14 @@ KOKKOS_INLINE_FUNCTION void blockDepthRange(const Edges& e, const DepthTerms& dz
 // with the plain form): a team per 8x8 block. The block's list is copied into
 // team scratch in raster-index order and each of its triangles set up there
 // once for the block's 64 pixels: edges and depth terms, the shading lookups
-// (AlphaTri, TriFrag, PbrTri), and the triangle's depth range over the block.
-// The plain resolve set a triangle up again for every fragment it shaded
-// (one cached lookup a thread: a pixel's layers are different triangles).
+// (AlphaTri, TriFrag, PbrTri), and the triangle's whole depth range. The
+// plain resolve set a triangle up again for every fragment it shaded (one
+// cached lookup a thread: a pixel's layers are different triangles).
 // The triangles' order is then the same at every sample of the block when
 //   sorted: always (a triangle's key is its draw's, whatever the sample);
-//   exact:  the depth ranges do not overlap (separate layers: most blocks),
+//   exact:  the whole depth ranges do not overlap (separate layers: most
+//           blocks; found once for a list and kept while the run's blocks
+//           share it), else the ranges over the block do not,
 // and each pixel walks the list once in that order, compositing what it
 // covers as it finds it: no keys, no insertion, no second walk. Otherwise a
 // pixel keeps the K nearest keys and peels as row() does, with keys that end
@@ -87,7 +89,7 @@ struct PeelTeam {
   struct Scratch {
     Entry* ent;
     uint32_t *raw, *ord;
-    int32_t *ordered, *same;
+    int32_t *ordered, *same, *global;
     uint64_t* frags;
   };
 
@@ -103,6 +105,7 @@ struct PeelTeam {
     sc.frags = static_cast<uint64_t*>(m.team_scratch(0).get_shmem_aligned(sizeof(uint64_t), 8));
     sc.ordered = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
     sc.same = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
+    sc.global = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
     const int64_t per = (blocks + m.league_size() - 1) / m.league_size();
     const int64_t b0 = per * m.league_rank(), b1 = b0 + per < blocks ? b0 + per : blocks;
     uint64_t frags = 0;
@@ -121,6 +124,28 @@ struct PeelTeam {
     uint32_t r = 0;
     for (uint32_t k = 0; k < n; ++k) r += raw[k] < i ? 1u : 0u;
     return r;
+  }
+
+  // Ranks the entries by their keys (`order`) into sc.ord; whether that
+  // order holds at every sample: sorted's always, exact's where each range
+  // ends before the next begins (NaN ranges order nothing). Every thread
+  // returns the same.
+  RAST_GPU_INLINE bool orderEntries(const TeamMember& m, const Scratch& sc, const uint32_t n) const {
+    const Entry* ent = sc.ent;
+    uint32_t* ord = sc.ord;
+    const int nThreads = m.team_size(), me = m.team_rank();
+    for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
+      uint32_t d = 0;
+      for (uint32_t k = 0; k < n; ++k) d += ent[k].order < ent[r].order ? 1u : 0u;
+      ord[d] = r;
+    }
+    if (me == 0) *sc.ordered = 1;  // its last reader passed the barrier before this call
+    m.team_barrier();
+    if (!peel.sorted)
+      for (uint32_t t = uint32_t(me); t + 1 < n; t += uint32_t(nThreads))
+        if (!(ent[ord[t]].hi < ent[ord[t + 1]].lo)) *sc.ordered = 0;  // ranges overlap (or NaN)
+    m.team_barrier();
+    return *sc.ordered != 0;
   }
 
   RAST_GPU_INLINE void resolveBlock(const TeamMember& m, const Scratch& sc, const int64_t block, uint32_t& held,
@@ -143,10 +168,7 @@ struct PeelTeam {
     Entry* ent = sc.ent;
     uint32_t *raw = sc.raw, *ord = sc.ord;
     for (uint32_t j = uint32_t(me); j < n; j += uint32_t(nThreads)) raw[j] = P.tileTris(begin + j);
-    if (me == 0) {
-      *sc.ordered = 1;
-      *sc.same = n == held ? 1 : 0;
-    }
+    if (me == 0) *sc.same = n == held ? 1 : 0;
     m.team_barrier();
     // Entry r of the list in raster-index order: its rank among the (unique)
     // raster indices. The last block's entries serve when they are the same.
@@ -163,6 +185,15 @@ struct PeelTeam {
         P.fs.template use<kFam>(i, en.tf, en.pt);
         en.dz = DepthTerms(P.fs.sc.tris(i));
         en.triKey = P.sorted ? P.sortedKeyOf(i) & ~uint64_t(0xffffffffu) : 0;
+        // exact: the triangle's whole depth range (depthBounds: widened past
+        // the depth's rounding), the list's order for every block it serves
+        // when no two ranges overlap.
+        if (!P.weighted) {
+          const DepthBounds z = depthBounds(P.fs.sc.tris(i));
+          en.lo = z.lo;
+          en.hi = z.hi;
+          en.order = P.sorted ? en.triKey | uint64_t(0xffffffffu - r) : uint64_t(orderBits(en.lo)) << 32 | r;
+        }
       }
       m.team_barrier();  // an entry's range below is another thread's set-up
     }
@@ -175,26 +206,24 @@ struct PeelTeam {
       m.team_barrier();  // the scratch is the next block's
       return;
     }
-    // Each entry's depth range over this block, and its key in the block's
-    // order: sorted's key (as the keys below); exact: the range's start, ties
-    // by raster index.
-    for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
-      Entry& en = ent[r];
-      blockDepthRange(en.tf.e, en.dz, x0, y0, en.lo, en.hi);
-      en.order = P.sorted ? en.triKey | uint64_t(0xffffffffu - r) : uint64_t(orderBits(en.lo)) << 32 | r;
+    // The list's order: sorted's keys, or exact's whole ranges where they do
+    // not overlap, serve every block the list does (kept with its entries:
+    // *sc.global); else each entry's depth range over this block, its key
+    // the range's start, ties by raster index.
+    bool inOrder = *sc.same && *sc.global;
+    if (!*sc.same) {
+      inOrder = orderEntries(m, sc, n);
+      if (me == 0) *sc.global = inOrder ? 1 : 0;
     }
-    m.team_barrier();
-    for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
-      uint32_t d = 0;
-      for (uint32_t k = 0; k < n; ++k) d += ent[k].order < ent[r].order ? 1u : 0u;
-      ord[d] = r;
+    if (!inOrder) {
+      for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
+        Entry& en = ent[r];
+        blockDepthRange(en.tf.e, en.dz, x0, y0, en.lo, en.hi);
+        en.order = uint64_t(orderBits(en.lo)) << 32 | r;
+      }
+      m.team_barrier();
+      inOrder = orderEntries(m, sc, n);
     }
-    m.team_barrier();
-    if (!P.sorted)
-      for (uint32_t t = uint32_t(me); t + 1 < n; t += uint32_t(nThreads))
-        if (!(ent[ord[t]].hi < ent[ord[t + 1]].lo)) *sc.ordered = 0;  // ranges overlap (or NaN)
-    m.team_barrier();
-    const bool inOrder = *sc.ordered != 0;
     for (int p = me; p < kPixels; p += nThreads) {
       const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
       if (X < P.width && Y < P.height) {
@@ -235,7 +264,20 @@ struct PeelTeam {
   RAST_GPU_INLINE void edgesAt(const Entry& en, const int32_t X, const int32_t Y, const int s, int64_t (&v)[3]) const {
     const Edges& e = en.tf.e;
     const int32_t ox = peel.fs.sp.ox[s], oy = peel.fs.sp.oy[s];
-    for (int k = 0; k < 3; ++k) v[k] = e.atSample(k, e.eval(k, X, Y), ox, oy);
+    for (int k = 0; k < 3; ++k) v[k] = sampleEdge(e, e.gpu, k, X, Y, ox, oy);
+  }
+  // Edges::atSample(k, Edges::eval(k, X, Y), ox, oy), the same integer: on a
+  // GPU from the 32-bit factors with the sample's offset folded into them
+  // (A_k / 256 = ndy_k, B_k / 256 = dx_k), two widening multiplies, where
+  // the 64-bit coefficients' division and multiplication took about a fifth
+  // of the walk's instructions.
+  KOKKOS_INLINE_FUNCTION static int64_t sampleEdge(const Edges&, const Edges::Factors& g, const int k, const int32_t X,
+                                                   const int32_t Y, const int32_t ox, const int32_t oy) {
+    return int64_t(g.dx[k]) * int64_t(kSubOne * Y + g.cy[k] + oy) + int64_t(g.ndy[k]) * int64_t(kSubOne * X + g.cx[k] + ox);
+  }
+  KOKKOS_INLINE_FUNCTION static int64_t sampleEdge(const Edges& e, const Edges::NoFactors&, const int k, const int32_t X,
+                                                   const int32_t Y, const int32_t ox, const int32_t oy) {
+    return e.atSample(k, e.eval(k, X, Y), ox, oy);
   }
 
   // Pixel (X, Y) of a block whose triangles keep one order at all its
