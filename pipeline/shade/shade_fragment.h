@@ -414,12 +414,15 @@ struct Shade {
 
   // Whether a frame may take the kernel compiled for lit shading alone
   // (ShadeInterleaved<true>): Lambert or Blinn-Phong, nearest or bilinear
-  // texturing, straight to 8-bit colour (ids, depth and normals as asked).
-  // Every other mode's code (depth, diagnostics, trilinear derivatives, the
-  // float film, SSAO's geometry) is left out of that kernel.
+  // texturing, to 8-bit colour or to the float film (BLEND's, the post
+  // passes', float outputs; ids, depth and normals as asked). Every other
+  // mode's code (depth, diagnostics, trilinear derivatives, SSAO's geometry)
+  // is left out of that kernel. The film's frames take it too: in the
+  // general kernel their shade stage took twice as long on the H100 (a BLEND
+  // frame of 8 layers: 83 us against 42).
   bool litOnly() const {
     return (p.mode == ShadingMode::Lambert || p.mode == ShadingMode::BlinnPhong) && p.filter != TexFilter::Trilinear &&
-           !p.floatOut && !p.wantGeom;
+           !p.wantGeom;
   }
 
   // SSAO's input: view-space normal and depth of the surface at the pixel (the
@@ -547,8 +550,9 @@ struct Shade {
       if (kLit) useAt(idx0 - 1, f, X, Y);
       else use(idx0 - 1, f);
     }
-    if (!kLit && p.floatOut)
-      hdr(i) = idx0 ? shadeFragment(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, &p0) : p.backgroundFilm;
+    if (p.floatOut)  // linear light, before any post pass or display encoding
+      hdr(i) = idx0 ? shadeFragment<kLit, kColor>(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0, kLit ? nullptr : &p0)
+                    : p.backgroundFilm;
     else
       color(i) = idx0 ? display<kLit>(shadeFragment<kLit, kColor>(f, X, Y, 0, 0, bitsFloat(uint32_t(key0 >> 32)), &n0))
                       : p.backgroundPacked;

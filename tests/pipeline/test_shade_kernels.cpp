@@ -94,6 +94,13 @@ TEST_CASE("the lit shade kernel gives the general kernel's images", "[shade]") {
     const Scene s = builtinScene(spec);
     compareForms(spec, s, defaultCamera(s), rs);
   }
+  // The float film: tone mapped, and under BLEND layers (the resolve
+  // composites over the film the lit kernel wrote).
+  RenderSettings film = phong;
+  film.post.tonemap = ToneMap::Neutral;
+  compareForms("default, Blinn-Phong, tone mapped (the float film)", d, cam, film);
+  const Scene layers = builtinScene("builtin:layers?n=8&mixed=1&unlit=0");
+  compareForms("BLEND layers over the float film", layers, defaultCamera(layers), rs);
   const std::string dir = sharedDir();
   if (dir.empty()) {
     skipTest("../shared is absent: the textured milk truck (seen from its cab) was not compared");
