@@ -117,7 +117,7 @@ constexpr unsigned kBlendResolveLaunchBounds[2] = {256, 2};
 // multiprocessor, under their own launch bounds: Kokkos refuses a scratch
 // that does not let the bounds' teams fit; below the 48 KiB a CUDA block has
 // without opting in). A longer list is walked from global memory, as by the
-// plain resolve. H100, 1920x1080 (docs/transparency.md): 44 KiB and {64, 5}
+// plain resolve. H100, 1920x1080 (docs/journal/transparency-2026-11.md): 44 KiB and {64, 5}
 // for every frame made 64 layers 3x faster and 8 layers 1.4x slower.
 constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 8};
 constexpr size_t kBlendTeamScratchBytes = 24 * 1024;

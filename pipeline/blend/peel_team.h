@@ -304,7 +304,7 @@ struct PeelTeam {
   // weighted, pixel (X, Y): rowWeighted's sums over the entries, in
   // raster-index order. The walk's first lines are pixel()'s and
   // pixelInOrder()'s, written out: one helper for the three measured 2 to 4%
-  // slower on the H100 (docs/transparency.md).
+  // slower on the H100 (docs/journal/transparency-2026-11.md).
   RAST_GPU_INLINE void pixelWeighted(const Entry* ent, const uint32_t n, const int32_t X, const int32_t Y,
                                      uint64_t& frags) const {
     eachSample(X, Y, [&](const int s, const uint32_t opq, float3& acc, float& T) {
