@@ -60,9 +60,9 @@ struct FragShade {
       sh.use(index, tf);
       const RasterTri& t = sc.tris(index);
       const Edges& e = tf.e;  // Edges(t), set up once per triangle by use()
-      const int64_t s0 = e.atSample(0, e.eval(0, X, Y), sp.ox[s], sp.oy[s]);
-      const int64_t s1 = e.atSample(1, e.eval(1, X, Y), sp.ox[s], sp.oy[s]);
-      const int64_t s2 = e.atSample(2, e.eval(2, X, Y), sp.ox[s], sp.oy[s]);
+      const int64_t s0 = e.sample(0, X, Y, sp.ox[s], sp.oy[s]);
+      const int64_t s1 = e.sample(1, X, Y, sp.ox[s], sp.oy[s]);
+      const int64_t s2 = e.sample(2, X, Y, sp.ox[s], sp.oy[s]);
       const float alpha = sc.alphaAt(a, s0, s1, s2);
       float3 n;
       const float4 c = sh.shadeFragment(tf, X, Y, sp.ox[s], sp.oy[s], DepthTerms(t).at(s0, s2), &n);
@@ -71,8 +71,8 @@ struct FragShade {
       use<kFam>(index, tf, pt);
       const Edges& e = tf.e;
       const int32_t ox = sp.ox[s], oy = sp.oy[s];
-      return shadeAt<kFam, kFeat>(X, Y, s, e.atSample(0, e.eval(0, X, Y), ox, oy), e.atSample(1, e.eval(1, X, Y), ox, oy),
-                                  e.atSample(2, e.eval(2, X, Y), ox, oy), a, tf, pt);
+      return shadeAt<kFam, kFeat>(X, Y, s, e.sample(0, X, Y, ox, oy), e.sample(1, X, Y, ox, oy), e.sample(2, X, Y, ox, oy), a,
+                                  tf, pt);
     }
   }
   // The specialised paths' shading lookups of triangle `index` (its AlphaTri
@@ -210,7 +210,7 @@ struct FragCacheOf {
       int64_t(&v)[3] = ev[e];
       if (fresh || evY[e] != Y || evS[e] != s || evX[e] >= X) {
         const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
-        for (int i = 0; i < 3; ++i) v[i] = E.atSample(i, E.eval(i, X, Y), ox, oy);
+        for (int i = 0; i < 3; ++i) v[i] = E.sample(i, X, Y, ox, oy);
       } else {
         for (int i = 0; i < 3; ++i) v[i] += E.A[i] * int64_t(X - evX[e]);
       }

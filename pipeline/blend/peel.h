@@ -217,8 +217,7 @@ struct Peel {
           const uint64_t triKey = sorted ? sortedKeyOf(i) : 0;
           // The edge values at the run's first pixel's sample, then a step of
           // A_i a pixel: exact integers, the values forItemSamples takes.
-          int64_t s0 = e.atSample(0, e.eval(0, x0, Y), ox, oy), s1 = e.atSample(1, e.eval(1, x0, Y), ox, oy),
-                  s2 = e.atSample(2, e.eval(2, x0, Y), ox, oy);
+          int64_t s0 = e.sample(0, x0, Y, ox, oy), s1 = e.sample(1, x0, Y, ox, oy), s2 = e.sample(2, x0, Y, ox, oy);
           for (int r = 0; r < kPeelRun && r < run; ++r, s0 += e.A[0], s1 += e.A[1], s2 += e.A[2]) {
             if (!more[r]) continue;
             if (!e.inside(s0, s1, s2)) continue;
@@ -308,8 +307,7 @@ struct Peel {
         const Edges e(t);
         const DepthTerms dz(t);
         const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
-        int64_t s0 = e.atSample(0, e.eval(0, x0, Y), ox, oy), s1 = e.atSample(1, e.eval(1, x0, Y), ox, oy),
-                s2 = e.atSample(2, e.eval(2, x0, Y), ox, oy);
+        int64_t s0 = e.sample(0, x0, Y, ox, oy), s1 = e.sample(1, x0, Y, ox, oy), s2 = e.sample(2, x0, Y, ox, oy);
         int lane[kPeelRun];
         float z[kPeelRun];
         int m = 0;

@@ -260,24 +260,12 @@ struct PeelTeam {
   }
   // The statistics: every fragment in front of the opaque depth.
   RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const { peel.count(cnt, frags); }
-  // An entry's edge values at sample s of pixel (X, Y) (exact integers).
+  // An entry's edge values at sample s of pixel (X, Y) (exact integers; on
+  // a GPU from the 32-bit factors, Edges::sample).
   RAST_GPU_INLINE void edgesAt(const Entry& en, const int32_t X, const int32_t Y, const int s, int64_t (&v)[3]) const {
     const Edges& e = en.tf.e;
     const int32_t ox = peel.fs.sp.ox[s], oy = peel.fs.sp.oy[s];
-    for (int k = 0; k < 3; ++k) v[k] = sampleEdge(e, e.gpu, k, X, Y, ox, oy);
-  }
-  // Edges::atSample(k, Edges::eval(k, X, Y), ox, oy), the same integer: on a
-  // GPU from the 32-bit factors with the sample's offset folded into them
-  // (A_k / 256 = ndy_k, B_k / 256 = dx_k), two widening multiplies, where
-  // the 64-bit coefficients' division and multiplication took about a fifth
-  // of the walk's instructions.
-  KOKKOS_INLINE_FUNCTION static int64_t sampleEdge(const Edges&, const Edges::Factors& g, const int k, const int32_t X,
-                                                   const int32_t Y, const int32_t ox, const int32_t oy) {
-    return int64_t(g.dx[k]) * int64_t(kSubOne * Y + g.cy[k] + oy) + int64_t(g.ndy[k]) * int64_t(kSubOne * X + g.cx[k] + ox);
-  }
-  KOKKOS_INLINE_FUNCTION static int64_t sampleEdge(const Edges& e, const Edges::NoFactors&, const int k, const int32_t X,
-                                                   const int32_t Y, const int32_t ox, const int32_t oy) {
-    return e.atSample(k, e.eval(k, X, Y), ox, oy);
+    for (int k = 0; k < 3; ++k) v[k] = e.sample(k, X, Y, ox, oy);
   }
 
   // Pixel (X, Y) of a block whose triangles keep one order at all its

@@ -172,8 +172,7 @@ struct Shade {
   // which is what the derivatives need.
   KOKKOS_INLINE_FUNCTION void bary(const TriFrag& t, const Edges& e, int32_t X, int32_t Y, int32_t ox, int32_t oy,
                                    float& b0, float& b1, float& b2) const {
-    baryFrom(t, e.atSample(0, e.eval(0, X, Y), ox, oy), e.atSample(1, e.eval(1, X, Y), ox, oy),
-             e.atSample(2, e.eval(2, X, Y), ox, oy), b0, b1, b2);
+    baryFrom(t, e.sample(0, X, Y, ox, oy), e.sample(1, X, Y, ox, oy), e.sample(2, X, Y, ox, oy), b0, b1, b2);
   }
   // The same from the exact edge values E0, E1, E2 at the point.
   KOKKOS_INLINE_FUNCTION void baryFrom(const TriFrag& t, int64_t E0, int64_t E1, int64_t E2, float& b0, float& b1,

@@ -328,7 +328,7 @@ TEST_CASE("triangles beyond a side of the viewport are skipped before clipping, 
   }
 }
 
-TEST_CASE("edge values from 32-bit factors equal the 64-bit edge functions at the coordinate limits", "[raster][edges]") {
+TEST_CASE("edge values from 32-bit factors equal the 64-bit edge functions at the coordinate limits and sample offsets", "[raster][edges]") {
   // On GPUs Edges::eval multiplies 32-bit factors (a widening multiply,
   // Edges::factorEval); the setup keeps snapped vertices within
   // +-kMaxWindowCoord pixels and pixel coordinates lie below
@@ -354,6 +354,21 @@ TEST_CASE("edge values from 32-bit factors equal the 64-bit edge functions at th
           const int64_t plane = e.A[i] * X + e.B[i] * Y + e.C[i];
           REQUIRE(Edges::factorEval(t, i, X, Y) == plane);
           REQUIRE(e.eval(i, X, Y) == plane);
+          // At a sample's offset (and the derivatives' neighbours, a pixel
+          // further): the factors with the offset folded in, and the offset's
+          // step from the factors (atSample's and sample's GPU forms), equal
+          // the 64-bit coefficients' A/256 and B/256 steps (the extremes and
+          // every eighth random triangle).
+          if (n >= 64 && n % 8 != 0) continue;
+          const Edges::Factors g = Edges::factorsOf(t);
+          for (int32_t ox : {-2 * kSubOne, -kSubHalf, -37, 0, 91, kSubOne + kSubHalf})
+            for (int32_t oy : {-kSubOne - kSubHalf, -5, 0, kSubHalf, 2 * kSubOne}) {
+              const int64_t at = plane + (e.A[i] / kSubOne) * ox + (e.B[i] / kSubOne) * oy;
+              REQUIRE(g.sample(i, X, Y, ox, oy) == at);
+              REQUIRE(plane + int64_t(g.ndy[i]) * ox + int64_t(g.dx[i]) * oy == at);
+              REQUIRE(e.sample(i, X, Y, ox, oy) == at);
+              REQUIRE(e.atSample(i, plane, ox, oy) == at);
+            }
         }
   }
 }
