@@ -110,17 +110,22 @@ constexpr unsigned kShadeLaunchBounds[2] = {256, 2};
 // (8 full-screen layers 1.29 -> 0.96 ms, 32 layers 6.51 -> 4.56 ms).
 constexpr unsigned kBlendResolveLaunchBounds[2] = {256, 2};
 // Its team form (PeelTeam, the specialised instances on GPUs): a team per
-// 8x8 block, a thread a pixel; {64, 8} keeps the same 128-register cap. The
-// block's listed triangles are set up in team scratch: this many bytes a team
-// (8 teams, 192 KiB, fit a Hopper multiprocessor's 228 KiB), or, when the
-// last frame's longest list needed more, up to the larger size (fewer teams a
-// multiprocessor, under their own launch bounds: Kokkos refuses a scratch
-// that does not let the bounds' teams fit; below the 48 KiB a CUDA block has
-// without opting in). A longer list is walked from global memory, as by the
-// plain resolve. H100, 1920x1080 (docs/journal/transparency-2026-11.md): 44 KiB and {64, 5}
-// for every frame made 64 layers 3x faster and 8 layers 1.4x slower.
-constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 8};
-constexpr size_t kBlendTeamScratchBytes = 24 * 1024;
+// 8x8 block, a thread a pixel; {64, 12}, a cap of 80 registers. The block's
+// listed triangles are set up in team scratch: this many bytes a team (12
+// teams, 192 KiB, fit a Hopper multiprocessor's 228 KiB: 24 warps), or, when
+// the last frame's longest list needed more, up to the larger size (fewer
+// teams a multiprocessor, under their own launch bounds: Kokkos refuses a
+// scratch that does not let the bounds' teams fit; below the 48 KiB a CUDA
+// block has without opting in). A longer list is walked from global memory,
+// as by the plain resolve. H100, 1920x1080, 8 mixed layers, exact's
+// resolve with the scratch read by shared loads (backends/team_scratch.h;
+// docs/journal/transparency-2026-11.md): {64, 8} and 24 KiB 0.397 ms,
+// {64, 10} and 20 KiB 0.425, {64, 12} and 16 KiB 0.367, {64, 14} and 14 KiB
+// 0.367 (weighted and sorted 2-3% faster, but 18 glTF-shaded triangles fill
+// it: shorter lists would take the larger scratch). Before, 44 KiB and
+// {64, 5} for every frame made 64 layers 3x faster and 8 layers 1.4x slower.
+constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 12};
+constexpr size_t kBlendTeamScratchBytes = 16 * 1024;
 constexpr unsigned kBlendTeamDeepLaunchBounds[2] = {64, 5};
 constexpr size_t kBlendTeamScratchMaxBytes = 44 * 1024;
 // The visbuffer raster's blocks (raster_visbuffer.cpp) on GPUs: one SIMD group

@@ -195,7 +195,8 @@ struct TileSort {
 struct TileSortTeam : TileSort {
   uint32_t blocks;
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
-    uint32_t* s = static_cast<uint32_t*>(m.team_scratch(0).get_shmem(kBlendSortScratchEntries * sizeof(uint32_t)));
+    uint32_t* s =
+        inTeamScratch(static_cast<uint32_t*>(m.team_scratch(0).get_shmem(kBlendSortScratchEntries * sizeof(uint32_t))));
     for (uint32_t block = uint32_t(m.league_rank()); block < blocks; block += uint32_t(m.league_size())) {
       uint32_t n;
       uint32_t* v = list(block, n);  // the same n for the whole team

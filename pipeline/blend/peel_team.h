@@ -4,6 +4,7 @@
 // team scratch and orders it, where peel.h walks the list a pixel a thread.
 #pragma once
 
+#include "backends/team_scratch.h"
 #include "pipeline/blend/peel.h"
 
 namespace rast {
@@ -98,14 +99,15 @@ struct PeelTeam {
   // totals(kBlendFrags) with one atomic (a team reduction per block cost
   // more than the resolve's own work on the H100).
   RAST_FLATTEN void operator()(const TeamMember& m) const {
+    // inTeamScratch: read with shared loads on CUDA (backends/team_scratch.h).
     Scratch sc;
-    sc.ent = static_cast<Entry*>(m.team_scratch(0).get_shmem_aligned(size_t(entries) * sizeof(Entry), 16));
-    sc.raw = static_cast<uint32_t*>(m.team_scratch(0).get_shmem(entries * sizeof(uint32_t)));
-    sc.ord = static_cast<uint32_t*>(m.team_scratch(0).get_shmem(entries * sizeof(uint32_t)));
-    sc.frags = static_cast<uint64_t*>(m.team_scratch(0).get_shmem_aligned(sizeof(uint64_t), 8));
-    sc.ordered = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
-    sc.same = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
-    sc.global = static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)));
+    sc.ent = inTeamScratch(static_cast<Entry*>(m.team_scratch(0).get_shmem_aligned(size_t(entries) * sizeof(Entry), 16)));
+    sc.raw = inTeamScratch(static_cast<uint32_t*>(m.team_scratch(0).get_shmem(entries * sizeof(uint32_t))));
+    sc.ord = inTeamScratch(static_cast<uint32_t*>(m.team_scratch(0).get_shmem(entries * sizeof(uint32_t))));
+    sc.frags = inTeamScratch(static_cast<uint64_t*>(m.team_scratch(0).get_shmem_aligned(sizeof(uint64_t), 8)));
+    sc.ordered = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
+    sc.same = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
+    sc.global = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
     const int64_t per = (blocks + m.league_size() - 1) / m.league_size();
     const int64_t b0 = per * m.league_rank(), b1 = b0 + per < blocks ? b0 + per : blocks;
     uint64_t frags = 0;
