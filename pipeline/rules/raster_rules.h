@@ -175,15 +175,13 @@ struct Edges {
   // shading set up a triangle a pixel), so host backends keep A X + B Y + C.
   struct Factors {
     int32_t dx[3], ndy[3], cx[3], cy[3];
-    KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const {
-      return int64_t(dx[i]) * int64_t(kSubOne * Y + cy[i]) + int64_t(ndy[i]) * int64_t(kSubOne * X + cx[i]);
-    }
     // E_i at (ox, oy) 1/256 pixel from the centre of pixel (X, Y), the
     // offset folded into the factors (offsets within +-2 pixels, as the
     // derivatives' neighbours take, keep them in 32 bits).
     KOKKOS_INLINE_FUNCTION int64_t sample(int i, int32_t X, int32_t Y, int32_t ox, int32_t oy) const {
       return int64_t(dx[i]) * int64_t(kSubOne * Y + cy[i] + oy) + int64_t(ndy[i]) * int64_t(kSubOne * X + cx[i] + ox);
     }
+    KOKKOS_INLINE_FUNCTION int64_t eval(int i, int32_t X, int32_t Y) const { return sample(i, X, Y, 0, 0); }
   };
   struct NoFactors {};
   std::conditional_t<kOnDevice, Factors, NoFactors> gpu;

@@ -365,7 +365,7 @@ TEST_CASE("edge values from 32-bit factors equal the 64-bit edge functions at th
             for (int32_t oy : {-kSubOne - kSubHalf, -5, 0, kSubHalf, 2 * kSubOne}) {
               const int64_t at = plane + (e.A[i] / kSubOne) * ox + (e.B[i] / kSubOne) * oy;
               REQUIRE(g.sample(i, X, Y, ox, oy) == at);
-              REQUIRE(plane + int64_t(g.ndy[i]) * ox + int64_t(g.dx[i]) * oy == at);
+              REQUIRE(plane + e.offsetWith(g, i, ox, oy) == at);
               REQUIRE(e.sample(i, X, Y, ox, oy) == at);
               REQUIRE(e.atSample(i, plane, ox, oy) == at);
             }
