@@ -98,9 +98,11 @@ struct FragShade {
       c = sh.template litFragment<kFeat>(tf, b0, b1, b2);
     } else {
       static_assert(kFam == kFragPbr, "a fragment family without its shading");
-      const float3 N = normalize(tf.n[0] * b0 + tf.n[1] * b1 + tf.n[2] * b2);
-      const float3 P = tf.pos[0] * b0 + tf.pos[1] * b1 + tf.pos[2] * b2;
-      c = sh.template shadePbr<kFeat>(tf, pt, X, Y, sp.ox[s], sp.oy[s], b0, b1, b2, N, P);
+      // The normal and position only where the material is lit.
+      c = sh.template shadePbrWith<kFeat>(tf, pt, X, Y, sp.ox[s], sp.oy[s], b0, b1, b2, [&](float3& N, float3& P) {
+        N = normalize(tf.n[0] * b0 + tf.n[1] * b1 + tf.n[2] * b2);
+        P = tf.pos[0] * b0 + tf.pos[1] * b1 + tf.pos[2] * b2;
+      });
     }
     return float4{c.x, c.y, c.z, alpha};
   }

@@ -386,9 +386,18 @@ struct Shade {
   RAST_GPU_INLINE float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
                                       float3 N, bool back, const UvSet& c, const float4& texel) const;
   RAST_GPU_INLINE PbrTri pbrTri(const TriFrag& f) const;
+  template <int kFeat, class Surface>
+  RAST_GPU_INLINE float4 shadePbrWith(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox, int32_t oy,
+                                      float b0, float b1, float b2, const Surface& surface) const;
+  // The same with the normal N and position P interpolated already.
   template <int kFeat = kPbrAny>
-  RAST_GPU_INLINE float4 shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox,
-                                         int32_t oy, float b0, float b1, float b2, float3 N, const float3& P) const;
+  RAST_GPU_INLINE float4 shadePbr(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox, int32_t oy,
+                                  float b0, float b1, float b2, const float3& N, const float3& P) const {
+    return shadePbrWith<kFeat>(f, t, X, Y, ox, oy, b0, b1, b2, [&](float3& n, float3& q) {
+      n = N;
+      q = P;
+    });
+  }
   // The occlusion texture's factor on indirect light, and the emitted light,
   // of a fragment of material m (the glTF shading and its debug views).
   // (texel: the material's occlusion or emissive texel, materialTexels).
