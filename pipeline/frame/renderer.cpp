@@ -413,6 +413,7 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
     stats->rasterWork = h(kRasterWork);
     stats->method = plan_.method;
     stats->rowLanes = plan_.rowLanes;
+    stats->occluderArea = autoStats_.occArea;
     stats->deviceBytes = deviceBytes();
     stats->minimumBytes = scene_.bytes() + viewBytes(frame_.vis) + viewBytes(frame_.color);
     stats->filmBytes = frame_.post.bytes() + viewBytes(frame_.accum);

@@ -29,6 +29,7 @@ struct FrameStats {
   uint32_t rasterWork = 0;    // work items of the raster method
   RasterMethod method = RasterMethod::VisBuffer;
   bool rowLanes = false;      // the visbuffer raster ran a block's rows on lanes (RasterBlockRows)
+  uint64_t occluderArea = 0;  // `auto`: the opaque occluder candidates' pixels in the viewport (last statistics)
   int attempts = 1;           // > 1 when buffers had to grow and the frame was redone
   size_t deviceBytes = 0;     // scene + frame buffers
   size_t minimumBytes = 0;    // scene + one framebuffer (visibility + colour)

@@ -120,6 +120,26 @@ TEST_CASE("MASK under MSAA: alpha-to-coverage keeps a dithered share of each pix
   CHECK(dithered >= 1);
 }
 
+// The auto method's statistics (rasterStatistics) describe the opaque
+// triangles the raster methods draw: MASK and BLEND triangles, whose boxes
+// the setup empties, are no occluder candidates. Counted, eight full-screen
+// layers over the backdrop made nine frames' worth of candidates and turned
+// the visbuffer's occluder pass on (on a GPU) for the backdrop alone.
+TEST_CASE("MASK and BLEND triangles are not counted as occluders by the auto method's statistics",
+          "[transparency][blend][raster]") {
+  for (const char* spec : {"builtin:layers?n=8&mixed=1", "builtin:cutout", "builtin:layers?n=0"}) {
+    INFO(spec);
+    const Scene s = builtinScene(spec);
+    RenderSettings rs = small();
+    rs.raster = RasterMethod::Auto;
+    const Frame f = renderFrame(s, defaultCamera(s), rs);
+    // The backdrop covers the viewport: its two triangles' area in it, once.
+    const double frame = double(rs.width) * rs.height;
+    CHECK(double(f.stats.occluderArea) >= 0.98 * frame);
+    CHECK(double(f.stats.occluderArea) <= 1.02 * frame);
+  }
+}
+
 TEST_CASE("BLEND: blue at alpha 0.5 over opaque red is (0.5, 0, 0.5) in linear light under every method",
           "[transparency][blend]") {
   const Scene s = builtinScene("builtin:layers?n=1&alpha=0.5&unlit=1");
