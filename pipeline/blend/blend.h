@@ -40,6 +40,16 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                   const BlendPlan& b);
 
+// Whether every pass of a frame's BLEND method launches lightweight (the
+// listed methods with a specialised fragment shading: blend_tiles.cpp), so
+// that the frame can be recorded and replayed (backends/frame_graphs.h);
+// kbuffer, the fixed-memory sums and the general fragment maths launch
+// heavyweight (pipeline/data/device.h). What else the passes' launches
+// depend on besides device memory and the plan's key: the resolve's scratch
+// size, from the last frame's longest list.
+bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p);
+uint64_t blendLaunchKey(const FrameBuffers& f);
+
 // Device bytes per sample of a method's fixed buffers (opaque depth and
 // block counts, k-buffer, weighted sums), and per entry of the listed
 // methods' tile lists (grown to the frame's need): for the memory budget.

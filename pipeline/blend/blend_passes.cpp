@@ -174,13 +174,18 @@ FragShade blending::makeFragShade(const DeviceScene& s, FrameBuffers& f, const S
   return FragShade{makeAlphaScene(s, f, p.filter, p.perspective != 0), makeShade(s, f, q, lights), f.vp.samples};
 }
 
-FragFamily blending::fragFamily(const FragShade& fs) {
-  const ShadeParams& p = fs.sh.p;
+FragFamily blending::fragFamily(const FragShade& fs) { return fragFamily(fs.sh.p); }
+
+FragFamily blending::fragFamily(const ShadeParams& p) {
   if (testHooks().generalShade) return kFragGeneral;  // tests compare the paths
   if ((p.mode == ShadingMode::Lambert || p.mode == ShadingMode::BlinnPhong) && p.filter != TexFilter::Trilinear)
     return kFragLit;
   if (p.mode == ShadingMode::Pbr) return kFragPbr;
   return kFragGeneral;
+}
+
+bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p) {
+  return !b.blend || (b.lists && blending::fragFamily(p) != blending::kFragGeneral);
 }
 
 uint64_t blendBytesPerSample(const BlendPlan& b) {

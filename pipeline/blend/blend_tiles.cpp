@@ -329,4 +329,11 @@ void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, co
 }
 
 }  // namespace blending
+
+uint64_t blendLaunchKey(const FrameBuffers& f) {
+  using namespace blending;
+  const uint64_t l = f.blend.longestList;
+  return uint64_t(PeelTeam<kFragLit, 0>::entriesFor(l)) << 32 | PeelTeam<kFragPbr, 0>::entriesFor(l);
+}
+
 }  // namespace rast

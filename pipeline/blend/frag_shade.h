@@ -231,6 +231,7 @@ using FragCache = FragCacheOf<kResolveCache, kFam>;
 // kFeat>() with them. A family or PbrFeature added without its case here
 // does not compile (the switch over FragFamily has no default; -Wswitch).
 FragFamily fragFamily(const FragShade& fs);
+FragFamily fragFamily(const ShadeParams& p);
 template <class Go>
 void withFragPath(const FragShade& fs, Go&& go) {
   using shading::kPbrClearcoat;

@@ -156,7 +156,8 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   p.key = settingsKey(rs) + testHooks().key();
   for (uint64_t v : {uint64_t(p.method), uint64_t(p.autoStats), uint64_t(p.occluders), uint64_t(p.rowLanes),
                      uint64_t(f.visClear), uint64_t(in.supersampling), uint64_t(f.triCapacity), uint64_t(f.workCapacity),
-                     uint64_t(p.blend.method), uint64_t(p.blend.lists), f.blend.tileCapacity})
+                     uint64_t(p.blend.method), uint64_t(p.blend.lists), f.blend.tileCapacity,
+                     p.blend.blend ? blendLaunchKey(f) : 0})
     p.key.append(reinterpret_cast<const char*>(&v), sizeof v);
   return p;
 }

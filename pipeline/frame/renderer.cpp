@@ -257,10 +257,10 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
 
   if (timer) timer->start();
   // Launched directly: the split's exchange waits on the host; heavyweight
-  // kernels (the general shading kernel, the MASK and BLEND passes on a GPU:
-  // pipeline/data/device.h) copy their functors before launch, which a
-  // recorded frame would not redo.
-  const bool heavy = kOnDevice && (plan_.blend.mask || plan_.blend.blend ||
+  // kernels (the general shading kernel, the MASK pass and some BLEND methods
+  // on a GPU: pipeline/data/device.h) copy their functors before launch,
+  // which a recorded frame would not redo.
+  const bool heavy = kOnDevice && (plan_.blend.mask || !blendLaunchesLightweight(plan_.blend, plan_.shadeParams) ||
                                    !shadeLaunchesLightweight(plan_.shadeParams, plan_.samples));
   if (split_ || heavy) {
     Kokkos::View<const mat4f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(upload_.data(), upload_.size());

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "pipeline/blend/blend.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
 #include "pipeline/data/test_hooks.h"
@@ -118,6 +119,39 @@ TEST_CASE("MASK under MSAA: alpha-to-coverage keeps a dithered share of each pix
     dithered += differs ? 1 : 0;
   }
   CHECK(dithered >= 1);
+}
+
+// Which BLEND frames a GPU records and replays (blendLaunchesLightweight):
+// those whose passes all launch lightweight, the listed methods with the lit
+// or glTF fragment shading; kbuffer, weighted's fixed-memory sums and the
+// general fragment maths copy their functors at each launch and run directly.
+TEST_CASE("BLEND frames of the listed methods with a specialised shading launch lightweight", "[transparency][blend][graphs]") {
+  ShadeParams p{};
+  p.filter = TexFilter::Bilinear;
+  BlendPlan b;
+  b.blend = true;
+  for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
+    b.method = t;
+    b.lists = true;
+    for (ShadingMode m : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr}) {
+      p.mode = m;
+      CHECK(blendLaunchesLightweight(b, p));
+    }
+    p.mode = ShadingMode::Normals;  // the general fragment maths
+    CHECK_FALSE(blendLaunchesLightweight(b, p));
+    p.mode = ShadingMode::Lambert;
+    p.filter = TexFilter::Trilinear;  // the lit family filters bilinear or nearest
+    CHECK_FALSE(blendLaunchesLightweight(b, p));
+    p.filter = TexFilter::Bilinear;
+  }
+  p.mode = ShadingMode::Lambert;
+  b.method = Transparency::Weighted;
+  b.lists = false;  // its fixed-memory sums
+  CHECK_FALSE(blendLaunchesLightweight(b, p));
+  b.method = Transparency::KBuffer;
+  CHECK_FALSE(blendLaunchesLightweight(b, p));
+  b.blend = false;  // no BLEND layer: nothing of the method runs
+  CHECK(blendLaunchesLightweight(b, p));
 }
 
 // The auto method's statistics (rasterStatistics) describe the opaque
