@@ -29,6 +29,21 @@ struct Step {
   bool far;
 };
 
+// n views around base's target about the vertical, `step` radians apart,
+// the near plane 10% further each view.
+std::vector<Camera> orbit(const Camera& base, int n, double step) {
+  std::vector<Camera> cams;
+  for (int i = 0; i < n; ++i) {
+    Camera cam = base;
+    const double a = step * i;
+    const glm::dvec3 d = base.eye - base.target;
+    cam.eye = base.target + glm::dvec3(d.x * std::cos(a) + d.z * std::sin(a), d.y, -d.x * std::sin(a) + d.z * std::cos(a));
+    cam.znear = base.znear * (1.0 + 0.1 * i);
+    cams.push_back(cam);
+  }
+  return cams;
+}
+
 }  // namespace
 
 TEST_CASE("frames rendered in sequence by one renderer equal fresh renders", "[frame-reuse]") {
@@ -95,15 +110,7 @@ TEST_CASE("a moving camera on one renderer gives the frames of fresh renderers",
     rs.shading = mode;
     rs.post.ssao = mode == ShadingMode::Lambert;  // the view matrix reaches SSAO's geometry
     INFO("shading " << toString(mode) << (rs.post.ssao ? " with SSAO" : ""));
-    std::vector<Camera> cams;
-    for (int i = 0; i < 8; ++i) {
-      Camera cam = base;
-      const double a = 0.25 * i;
-      const glm::dvec3 d = base.eye - base.target;
-      cam.eye = base.target + glm::dvec3(d.x * std::cos(a) + d.z * std::sin(a), d.y, -d.x * std::sin(a) + d.z * std::cos(a));
-      cam.znear = base.znear * (1.0 + 0.1 * i);  // the depth mode reads near and far
-      cams.push_back(cam);
-    }
+    const std::vector<Camera> cams = orbit(base, 8, 0.25);  // the depth mode reads near and far
     // The fresh frames first: a renderer's allocations drop every recording
     // (the allocation count is process-wide), so interleaving them would
     // keep the renderer under test from ever replaying.
@@ -142,15 +149,7 @@ TEST_CASE("a moving camera over BLEND layers gives the frames of fresh renderers
   rs.wantPrimId = true;
   rs.wantDepth = true;
   rs.environment = "none";  // the glTF shading's lights, not a fresh environment built per renderer
-  std::vector<Camera> cams;
-  for (int i = 0; i < 5; ++i) {
-    Camera cam = base;
-    const double a = 0.04 * i;
-    const glm::dvec3 d = base.eye - base.target;
-    cam.eye = base.target + glm::dvec3(d.x * std::cos(a) + d.z * std::sin(a), d.y, -d.x * std::sin(a) + d.z * std::cos(a));
-    cam.znear = base.znear * (1.0 + 0.1 * i);
-    cams.push_back(cam);
-  }
+  const std::vector<Camera> cams = orbit(base, 5, 0.04);
   for (Transparency method : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted})
     for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::Pbr}) {
       rs.transparency = method;
