@@ -15,6 +15,7 @@
 // fragments composited front to back, peeled K at a time, or summed
 // (weighted) (peel.h); on a GPU a team a block (peel_team.h). This file
 // launches the frame's instance.
+#include "pipeline/blend/peel_block.h"
 #include "pipeline/blend/peel_team.h"
 #include "pipeline/data/test_hooks.h"
 
@@ -262,11 +263,17 @@ struct PeelLaunch {
       else
         launchTeams<kBlendTeamDeepLaunchBounds[0], kBlendTeamDeepLaunchBounds[1]>(Team{peel, blocks, entries});
     } else {
-      Kokkos::parallel_reduce(
-          "rast::blend::resolve",
-          lightweight(Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kBlendResolveLaunchBounds[0],
-                                                                     kBlendResolveLaunchBounds[1]>>(0, items)),
-          peel, result);
+      using Policy =
+          Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kBlendResolveLaunchBounds[0], kBlendResolveLaunchBounds[1]>>;
+      // A CPU thread a few blocks: each in order where its triangles keep one
+      // (peel_block.h), else its rows peeled.
+      if constexpr (kPeelRun > 1) {
+        using Blocks = PeelBlocks<kFam, kFeat>;
+        Kokkos::parallel_reduce("rast::blend::resolve", lightweight(Policy(0, Blocks::itemsFor(items))),
+                                Blocks{peel, testHooks().peelRows, items}, result);
+      } else {
+        Kokkos::parallel_reduce("rast::blend::resolve", lightweight(Policy(0, items)), peel, result);
+      }
     }
   }
 };

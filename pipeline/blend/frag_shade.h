@@ -108,7 +108,11 @@ struct FragShade {
   }
   // Weighted blended OIT's weight (McGuire and Bavoil 2013, eq. 7) at window depth d.
   RAST_GPU_INLINE float weight(float d) const {
-    const float n = sh.p.frame(0).camera.znear, f = sh.p.frame(0).camera.zfar;
+    return weightOf(d, sh.p.frame(0).camera.znear, sh.p.frame(0).camera.zfar);
+  }
+  // The same with the camera's near and far planes n and f given (a loop over
+  // many fragments: peel_block.h).
+  RAST_GPU_INLINE static float weightOf(float d, const float n, const float f) {
     const float z = 2.0f * n * f / ((f + n) - (2.0f * d - 1.0f) * (f - n));
     const float a = z / 5.0f, b = z / 200.0f, b2 = b * b;
     const float w = 10.0f / (1e-5f + a * a + b2 * b2 * b2);

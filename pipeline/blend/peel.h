@@ -32,6 +32,32 @@ constexpr int32_t kPeelRun = kOnDevice ? 1 : (1 << kItemShift);
 constexpr int kPeelCache = kOnDevice ? 1 : kPeelK;
 constexpr uint64_t kNoKey = ~uint64_t(0);
 
+// A triangle's depth over the samples of the 8x8 block at (x0, y0), bounded:
+// the depth plane (DepthTerms::plane) at the corners of the block's pixels
+// (every sample lies within them), in double from the exact edge values,
+// widened past the float evaluation's rounding (each of its terms rounds
+// within 2^-21 of the sum of their magnitudes), clamped as DepthTerms::at
+// clamps. NaN terms give NaN bounds, which order nothing.
+KOKKOS_INLINE_FUNCTION void blockDepthRange(const Edges& e, const DepthTerms& dz, int32_t x0, int32_t y0, float& lo,
+                                            float& hi) {
+  const double c0 = double(e.eval(0, x0, y0)), c2 = double(e.eval(2, x0, y0));
+  double mn = 0.0, mx = 0.0, mag = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    const double fx = (c & 1) ? 7.5 : -0.5, fy = (c & 2) ? 7.5 : -0.5;  // pixels from (x0, y0)
+    const double e0 = c0 + double(e.A[0]) * fx + double(e.B[0]) * fy, e2 = c2 + double(e.A[2]) * fx + double(e.B[2]) * fy;
+    const double t1 = e2 * double(dz.ia) * double(dz.d1), t2 = e0 * double(dz.ia) * double(dz.d2);
+    const double z = double(dz.z0) + (t1 + t2);
+    const double m = ::fabs(double(dz.z0)) + ::fabs(t1) + ::fabs(t2);
+    mn = c == 0 || z < mn ? z : mn;
+    mx = c == 0 || z > mx ? z : mx;
+    mag = m > mag ? m : mag;
+  }
+  const double w = mag * 0x1p-20;
+  const double l = mn - w, h = mx + w;
+  lo = l == l ? float(l < 0.0 ? 0.0 : (l > 1.0 ? 1.0 : l)) : l;
+  hi = h == h ? float(h < 0.0 ? 0.0 : (h > 1.0 ? 1.0 : h)) : h;
+}
+
 // The resolve for the frame's fragment family and features (frag_shade.h).
 template <int kFam, int kFeat>
 struct Peel {
@@ -106,6 +132,18 @@ struct Peel {
   KOKKOS_INLINE_FUNCTION bool litLanes(const uint32_t tri, const int32_t x0, const int32_t Y, const int s,
                                        const int (&lane)[kPeelRun], const int m, PeelCache& cache,
                                        float4 (&out)[kPeelRun]) const {
+    alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
+    for (int j = 0; j < m; ++j) {
+      X[j] = x0 + lane[j];
+      Ys[j] = Y;
+    }
+    return litLanesAt(tri, s, X, Ys, m, cache, out);
+  }
+  // The same for pixels (X[j], Y[j]), j < m <= kCap (peel_block.h: a block's).
+  template <int kCap>
+  KOKKOS_INLINE_FUNCTION bool litLanesAt(const uint32_t tri, const int s, const int32_t (&X)[kCap],
+                                         const int32_t (&Ys)[kCap], const int m, PeelCache& cache,
+                                         float4 (&out)[kCap]) const {
     using shading::SpanConsts;
     const int e = cache.slot(tri);
     if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
@@ -124,13 +162,7 @@ struct Peel {
     SpanConsts c;
     fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
                    1.0f - fs.sh.p.ambient);
-    alignas(32) int32_t X[kPeelRun], Ys[kPeelRun];
-    alignas(32) float b0[kPeelRun], b1[kPeelRun], b2[kPeelRun], nx[kPeelRun], ny[kPeelRun], nz[kPeelRun],
-        diffuse[kPeelRun];
-    for (int j = 0; j < m; ++j) {
-      X[j] = x0 + lane[j];
-      Ys[j] = Y;
-    }
+    alignas(32) float b0[kCap], b1[kCap], b2[kCap], nx[kCap], ny[kCap], nz[kCap], diffuse[kCap];
     shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
     const float4 base = f.baseColor;
     for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)

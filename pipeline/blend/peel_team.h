@@ -10,32 +10,6 @@
 namespace rast {
 namespace blending {
 
-// A triangle's depth over the samples of the 8x8 block at (x0, y0), bounded:
-// the depth plane (DepthTerms::plane) at the corners of the block's pixels
-// (every sample lies within them), in double from the exact edge values,
-// widened past the float evaluation's rounding (each of its terms rounds
-// within 2^-21 of the sum of their magnitudes), clamped as DepthTerms::at
-// clamps. NaN terms give NaN bounds, which order nothing.
-KOKKOS_INLINE_FUNCTION void blockDepthRange(const Edges& e, const DepthTerms& dz, int32_t x0, int32_t y0, float& lo,
-                                            float& hi) {
-  const double c0 = double(e.eval(0, x0, y0)), c2 = double(e.eval(2, x0, y0));
-  double mn = 0.0, mx = 0.0, mag = 0.0;
-  for (int c = 0; c < 4; ++c) {
-    const double fx = (c & 1) ? 7.5 : -0.5, fy = (c & 2) ? 7.5 : -0.5;  // pixels from (x0, y0)
-    const double e0 = c0 + double(e.A[0]) * fx + double(e.B[0]) * fy, e2 = c2 + double(e.A[2]) * fx + double(e.B[2]) * fy;
-    const double t1 = e2 * double(dz.ia) * double(dz.d1), t2 = e0 * double(dz.ia) * double(dz.d2);
-    const double z = double(dz.z0) + (t1 + t2);
-    const double m = ::fabs(double(dz.z0)) + ::fabs(t1) + ::fabs(t2);
-    mn = c == 0 || z < mn ? z : mn;
-    mx = c == 0 || z > mx ? z : mx;
-    mag = m > mag ? m : mag;
-  }
-  const double w = mag * 0x1p-20;
-  const double l = mn - w, h = mx + w;
-  lo = l == l ? float(l < 0.0 ? 0.0 : (l > 1.0 ? 1.0 : l)) : l;
-  hi = h == h ? float(h < 0.0 ? 0.0 : (h > 1.0 ? 1.0 : h)) : h;
-}
-
 // The resolve's team form, for the specialised fragment shading on GPUs (and
 // on host backends under TestHooks::teamResolve, so that tests compare it
 // with the plain form): a team per 8x8 block. The block's list is copied into

@@ -40,6 +40,11 @@ struct TestHooks {
   // host backend too (pipeline/blend/peel_team.h, PeelTeam: a block's list set up once
   // in team scratch), so that its bits are checked against the host's own.
   bool teamResolve = false;
+  // true: a CPU's exact, sorted and weighted resolve peels every block's rows
+  // (pipeline/blend/peel.h), never walking a block's triangles in order
+  // (peel_block.h), so that the two are checked against each other. GPUs
+  // ignore it (their team form walks in order itself).
+  bool peelRows = false;
 
   // The values as bytes, for the frame plan's key.
   std::string key() const;

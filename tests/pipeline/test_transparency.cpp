@@ -374,6 +374,50 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   CHECK(sameBits(first, r.filmBottomUp()));
 }
 
+TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled rows' bits", "[transparency][blend]") {
+  // A CPU thread resolves an 8x8 block: where the block's triangles keep one
+  // order at every sample (sorted always; exact where their depth ranges
+  // over the block do not overlap; weighted in raster-index order) it walks
+  // each over the block's pixels in that order (peel_block.h), else it peels
+  // the block's rows (peel.h), which TestHooks::peelRows forces everywhere.
+  // Separate layers back to front and front to back, intersecting ones (the
+  // blocks along the intersections peeled), coplanar ones (equal ranges:
+  // peeled), 64 layers (the diagonals' lists of 128 longer than a block walks
+  // in order), opaque layers (a pixel stops at the first), a vertex-coloured
+  // quad; Lambert (lit together by the span shader's vector loop), Blinn-Phong,
+  // the glTF shading; one and four samples; the frame's size not a multiple of
+  // 8. GPUs ignore the hook: there both films are the team form's.
+  struct Rows {
+    Rows() { testHooks().peelRows = true; }
+    ~Rows() { testHooks().peelRows = false; }
+  };
+  for (const char* name :
+       {"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
+        "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=6&mixed=1&equal=1",
+        "builtin:layers?n=64&alpha=0.1", "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"}) {
+    const Scene s = builtinScene(name);
+    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr})
+      for (int msaa : {1, 4})
+        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
+          INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
+          RenderSettings rs = small(93, 53);
+          rs.shading = mode;
+          rs.msaa = msaa;
+          rs.transparency = t;
+          FrameStats blockStats, rowStats;
+          const std::vector<rast::float4> blocks = film(s, rs, &blockStats);
+          std::vector<rast::float4> rows;
+          {
+            Rows g;
+            rows = film(s, rs, &rowStats);
+          }
+          CHECK(sameBits(blocks, rows));
+          CHECK(blockStats.blendFragments == rowStats.blendFragments);
+          CHECK(blockStats.blendMaxDepth == rowStats.blendMaxDepth);
+        }
+  }
+}
+
 TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer (weighted: its fixed sums) and say so",
           "[transparency][blend]") {
   {  // the statistics the tile lists' resolve reduces

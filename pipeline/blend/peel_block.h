@@ -1,0 +1,258 @@
+// The listed methods' resolve on CPUs, a block a thread (docs/transparency.md,
+// "On a CPU: a block's triangles in order"). Where the triangles of a
+// block's list keep one order at every sample of the block
+//   sorted:   always (a triangle's key is its draw's);
+//   exact:    where their depth ranges over the block do not overlap
+//             (blockDepthRange, widened past the depth's rounding);
+//   weighted: the list's raster-index order, in which its sums add,
+// each triangle in turn is walked over the block's 64 pixels and its
+// fragments in front of the opaque depth are shaded together (Lambert under
+// the headlight: the span shader's vector loop over them all, one set-up a
+// triangle and sample) and composited as found: no keys, no insertion, no
+// second walk, and a triangle's set-up once for the block instead of once a
+// row and pass. Other blocks (overlapping ranges, lists longer than
+// kBlockOrderMax) take peel.h's rows. The same fragments are composited in
+// the same order with the same arithmetic as there: the same bits
+// (tests/pipeline/test_transparency.cpp, TestHooks::peelRows). GPUs take
+// peel_team.h's team form, which walks in order the same way a pixel a thread.
+#pragma once
+
+#include "pipeline/blend/peel.h"
+
+namespace rast {
+namespace blending {
+
+// Longest list walked in order (its set-up lives on the thread's stack).
+constexpr uint32_t kBlockOrderMax = 64;
+
+// One triangle's edges and depth terms at one sample over a block: the edge
+// values at the sample of the block's corner pixel and their steps a pixel
+// along x and y, in double (integers below 2^50, as SpanConsts: exact), the
+// top-left rule's biases; DepthTerms' fields.
+struct BlockEdges {
+  double e[3], a[3], b[3], bias[3];
+  float z0, d1, d2, ia;
+};
+// Its fragments over the block's 64 pixels (q = 8 y + x from the corner):
+// Edges::inside, DepthTerms::at (float(double(e)) rounds as float(e) does:
+// the same depth) and LESS against the opaque depth's bits opq (0 for a
+// pixel outside the frame: never passed); pass[q] 1 for a fragment, its
+// pixel's count cnt[q] raised, z[q] its depth. Plain loops, also built for
+// AVX-512 and AVX2 (cpu_clones.h): the same results, 8 or 16 pixels at once.
+RAST_CPU_CLONES void blockFragmentsWide(const BlockEdges& k, const uint32_t* __restrict__ opq,
+                                        uint32_t* __restrict__ cnt, int32_t* __restrict__ pass,
+                                        float* __restrict__ z) {
+  for (int q = 0; q < 64; ++q) {
+    const double x = double(q & 7), y = double(q >> 3);
+    const double s0 = k.e[0] + k.a[0] * x + k.b[0] * y, s1 = k.e[1] + k.a[1] * x + k.b[1] * y,
+                 s2 = k.e[2] + k.a[2] * x + k.b[2] * y;
+    const float l1 = float(s2) * k.ia, l2 = float(s0) * k.ia;
+    const float zz = clamp01(k.z0 + (l1 * k.d1 + l2 * k.d2));
+    const int32_t in = (s0 + k.bias[0] > 0.0) & (s1 + k.bias[1] > 0.0) & (s2 + k.bias[2] > 0.0);
+    const int32_t p = in & (floatBits(zz) < opq[q] ? 1 : 0);
+    z[q] = zz;
+    pass[q] = p;
+    cnt[q] += uint32_t(p);
+  }
+}
+
+// "over" (frag_shade.h) for a block's pixels at once, a pixel whose colour's
+// alpha cA[q] is above 0 composited (the others, alpha 0 or NaN or not a
+// fragment, unchanged): acc + rgb * (T * alpha), T * (1 - alpha), per channel
+// as over() computes them. Plain loops, also built for AVX-512 and AVX2.
+RAST_CPU_CLONES void overBlockWide(float* __restrict__ aR, float* __restrict__ aG, float* __restrict__ aB,
+                                   float* __restrict__ T, const float* __restrict__ cR, const float* __restrict__ cG,
+                                   const float* __restrict__ cB, const float* __restrict__ cA) {
+  for (int q = 0; q < 64; ++q) {
+    const float a = cA[q], t = T[q], tw = t * a;
+    const bool f = a > 0.0f;
+    aR[q] = f ? aR[q] + cR[q] * tw : aR[q];
+    aG[q] = f ? aG[q] + cG[q] * tw : aG[q];
+    aB[q] = f ? aB[q] + cB[q] * tw : aB[q];
+    T[q] = f ? t * (1.0f - a) : t;
+  }
+}
+
+template <int kFam, int kFeat>
+struct PeelBlocks {
+  static constexpr int32_t kSide = 1 << kItemShift, kPixels = kSide * kSide;
+  using P = Peel<kFam, kFeat>;
+  P peel;
+  bool rowsOnly;  // TestHooks::peelRows
+
+  int64_t blocks;
+  // Blocks a work item takes: neighbours, which mostly list the same
+  // triangles, whose shading lookups (the cache) it then sets up once.
+  static constexpr int64_t kRun = 4;
+  static int64_t itemsFor(int64_t blocks) { return (blocks + kRun - 1) / kRun; }
+
+  // Work item: blocks run * kRun onwards (kPeelRun == kSide: a CPU's).
+  void operator()(const int64_t run, uint64_t& frags) const {
+    static_assert(kPeelRun == kSide, "a CPU thread takes blocks");
+    typename P::PeelCache cache;
+    for (int64_t block = run * kRun; block < (run + 1) * kRun && block < blocks; ++block) {
+      uint32_t ord[kBlockOrderMax], idx[kBlockOrderMax];
+      uint32_t n = 0;
+      if (rowsOnly || !order(block, idx, ord, n))
+        peel(block, frags);
+      else
+        walk(block, idx, ord, n, cache, frags);
+    }
+  }
+
+  // The block's list (idx) and the order its triangles keep at every
+  // sample (ord: places in idx, first composited first); false where there
+  // is none, or the list is empty, too long or not read (the frame is drawn
+  // again with more room).
+  bool order(const int64_t block, uint32_t (&idx)[kBlockOrderMax], uint32_t (&ord)[kBlockOrderMax],
+             uint32_t& n) const {
+    const P& p = peel;
+    if (!(p.totals(kBlendListed) <= p.tileCapacity)) return false;
+    n = p.tileCount(block);
+    if (n == 0 || n > kBlockOrderMax) return false;
+    const uint32_t begin = p.tileEnd(block) - n;
+    const int32_t x0 = int32_t(block % p.blocksX) << kItemShift, y0 = int32_t(block / p.blocksX) << kItemShift;
+    uint64_t key[kBlockOrderMax];
+    float lo[kBlockOrderMax], hi[kBlockOrderMax];
+    for (uint32_t j = 0; j < n; ++j) {
+      const uint32_t i = p.tileTris(begin + j);
+      idx[j] = i;
+      if (p.weighted) {
+        key[j] = j;  // tiles_sort put the list in raster-index order
+      } else if (p.sorted) {
+        key[j] = p.sortedKeyOf(i);  // unique: it ends in the raster index
+      } else {
+        const RasterTri& t = p.fs.sc.tris(i);
+        blockDepthRange(Edges(t), DepthTerms(t), x0, y0, lo[j], hi[j]);
+        key[j] = uint64_t(orderBits(lo[j])) << 32 | j;
+      }
+    }
+    for (uint32_t j = 0; j < n; ++j) {  // insertion sort: lists are short and mostly in order
+      uint32_t k = j;
+      for (; k > 0 && key[ord[k - 1]] > key[j]; --k) ord[k] = ord[k - 1];
+      ord[k] = j;
+    }
+    if (!p.weighted && !p.sorted)
+      for (uint32_t t = 0; t + 1 < n; ++t)
+        if (!(hi[ord[t]] < lo[ord[t + 1]])) return false;  // ranges overlap (or NaN): peeled
+    return true;
+  }
+
+  // The block's samples, each triangle of the list in order over its pixels.
+  void walk(const int64_t block, const uint32_t (&idx)[kBlockOrderMax], const uint32_t (&ord)[kBlockOrderMax],
+            const uint32_t n, typename P::PeelCache& cache, uint64_t& frags) const {
+    const P& p = peel;
+    const FragShade& fs = p.fs;
+    const bool weighted = p.weighted != 0;
+    const int32_t x0 = int32_t(block % p.blocksX) << kItemShift, y0 = int32_t(block / p.blocksX) << kItemShift;
+    const int32_t cols = p.width - x0 < kSide ? p.width - x0 : kSide;
+    const int32_t rows = p.height - y0 < kSide ? p.height - y0 : kSide;
+    const int S = fs.sp.count;
+    const float zn = fs.sh.p.frame(0).camera.znear, zf = fs.sh.p.frame(0).camera.zfar;  // weighted's weights
+    float4 sum[kPixels];
+    for (int q = 0; q < kPixels; ++q) sum[q] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+    for (int s = 0; s < S; ++s) {
+      const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+      // What lies in front, a channel an array (overBlockWide), and the
+      // transmittance; weighted's sums.
+      alignas(64) float aR[kPixels], aG[kPixels], aB[kPixels], T[kPixels];
+      float reveal[kPixels];
+      float4 w[kPixels];
+      alignas(64) uint32_t cnt[kPixels], opq[kPixels];
+      for (int q = 0; q < kPixels; ++q) {
+        aR[q] = aG[q] = aB[q] = 0.0f;
+        T[q] = 1.0f;
+        w[q] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+        reveal[q] = 1.0f;
+        cnt[q] = 0;
+        opq[q] = 0;  // no pixel: no fragment
+      }
+      for (int32_t yy = 0; yy < rows; ++yy)
+        for (int32_t xx = 0; xx < cols; ++xx)
+          opq[yy * kSide + xx] = p.opaque((int64_t(y0 + yy) * p.width + x0 + xx) * S + s);
+      for (uint32_t t = 0; t < n; ++t) {
+        const uint32_t i = idx[ord[t]];
+        const RasterTri& tri = fs.sc.tris(i);
+        const Edges e(tri);
+        const DepthTerms dz(tri);
+        BlockEdges be;
+        for (int k = 0; k < 3; ++k) {
+          be.e[k] = double(e.sample(k, x0, y0, ox, oy));
+          be.a[k] = double(e.A[k]);
+          be.b[k] = double(e.B[k]);
+          be.bias[k] = double(e.bias[k]);
+        }
+        be.z0 = dz.z0;
+        be.d1 = dz.d1;
+        be.d2 = dz.d2;
+        be.ia = dz.ia;
+        alignas(64) int32_t pass[kPixels];
+        alignas(64) float z[kPixels];
+        blockFragmentsWide(be, opq, cnt, pass, z);
+        // The fragments to shade: of pixels not yet opaque (weighted: all).
+        int lane[kPixels];
+        int m = 0;
+        for (int q = 0; q < kPixels; ++q) {
+          lane[m] = q;
+          m += pass[q] & (weighted || T[q] > 0.0f ? 1 : 0);
+        }
+        if (m == 0) continue;
+        alignas(64) int32_t X[kPixels], Y[kPixels];
+        for (int k = 0; k < m; ++k) {
+          X[k] = x0 + (lane[k] & (kSide - 1));
+          Y[k] = y0 + (lane[k] >> kItemShift);
+        }
+        float4 col[kPixels];
+        bool lit = false;
+        if constexpr (P::kLanes) lit = p.lambertLanes && m > 1 && p.litLanesAt(i, s, X, Y, m, cache, col);
+        if (!lit) {
+          const int c = cache.slot(i);
+          if (cache.a[c].index != i) fs.sc.prepare(i, cache.a[c]);
+          fs.template use<kFam>(i, cache.tf[c], cache.pt[c]);
+          for (int k = 0; k < m; ++k)
+            col[k] = fs.template shadeAt<kFam, kFeat>(X[k], Y[k], s, e.sample(0, X[k], Y[k], ox, oy),
+                                                      e.sample(1, X[k], Y[k], ox, oy), e.sample(2, X[k], Y[k], ox, oy),
+                                                      cache.a[c], cache.tf[c], cache.pt[c]);
+        }
+        if (weighted) {
+          // The fragments' weights first, in a loop of their own (it vectorizes).
+          float wt[kPixels];
+          for (int k = 0; k < m; ++k) wt[k] = FragShade::weightOf(z[lane[k]], zn, zf);
+          for (int k = 0; k < m; ++k)
+            if (col[k].w > 0.0f) weightedTerms(w[lane[k]], reveal[lane[k]], col[k], wt[k]);  // alpha 0 (or NaN): no fragment
+          continue;
+        }
+        alignas(64) float cR[kPixels], cG[kPixels], cB[kPixels], cA[kPixels];
+        if (m < kPixels)  // else lane[k] == k: every pixel has a fragment
+          for (int q = 0; q < kPixels; ++q) cR[q] = cG[q] = cB[q] = cA[q] = 0.0f;  // no fragment
+        for (int k = 0; k < m; ++k) {
+          const int q = lane[k];
+          cR[q] = col[k].x;
+          cG[q] = col[k].y;
+          cB[q] = col[k].z;
+          cA[q] = col[k].w;
+        }
+        overBlockWide(aR, aG, aB, T, cR, cG, cB, cA);  // alpha 0 (or NaN): no fragment
+      }
+      for (int32_t yy = 0; yy < rows; ++yy)
+        for (int32_t xx = 0; xx < cols; ++xx) {
+          const int q = yy * kSide + xx;
+          p.count(cnt[q], frags);
+          float3 acc{aR[q], aG[q], aB[q]};
+          float Tq = T[q];
+          if (weighted) weightedFront(w[q], reveal[q], acc, Tq);
+          const int64_t px = int64_t(y0 + yy) * p.width + x0 + xx;
+          const float4 out = overOpaque(acc, Tq, p.hdr(px));
+          if (S == 1) {
+            p.hdr(px) = out;
+          } else {
+            sum[q] = sum[q] + out;
+            if (s + 1 == S) p.hdr(px) = sum[q] * (1.0f / float(S));
+          }
+        }
+    }
+  }
+};
+
+}  // namespace blending
+}  // namespace rast
