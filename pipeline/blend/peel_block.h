@@ -88,7 +88,8 @@ struct PeelBlocks {
 
   // Work item: blocks run * kRun onwards (kPeelRun == kSide: a CPU's).
   void operator()(const int64_t run, uint64_t& frags) const {
-    static_assert(kPeelRun == kSide, "a CPU thread takes blocks");
+    // Dependent on the template: never instantiated for a GPU, whose kPeelRun is 1.
+    static_assert(kFam >= 0 && kPeelRun == kSide, "a CPU thread takes blocks");
     typename P::PeelCache cache;
     for (int64_t block = run * kRun; block < (run + 1) * kRun && block < blocks; ++block) {
       uint32_t ord[kBlockOrderMax], idx[kBlockOrderMax];
