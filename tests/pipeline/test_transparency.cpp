@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 
 #include "pipeline/blend/blend.h"
 #include "pipeline/frame/renderer.h"
@@ -319,6 +320,36 @@ TEST_CASE("BLEND: the specialised fragment shading gives the general fragment ma
   }
 }
 
+// The listed methods' films and statistics as the renderer draws them and
+// under the test hook that Guard sets (constructor) and restores
+// (destructor): the same bits, for each scene, under Lambert, Blinn-Phong
+// and the glTF shading, one and four samples, exact, sorted and weighted.
+template <class Guard>
+void sameUnderHook(std::initializer_list<const char*> names, const RenderSettings& size) {
+  for (const char* name : names) {
+    const Scene s = builtinScene(name);
+    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr})
+      for (int msaa : {1, 4})
+        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
+          INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
+          RenderSettings rs = size;
+          rs.shading = mode;
+          rs.msaa = msaa;
+          rs.transparency = t;
+          FrameStats plainStats, hookStats;
+          const std::vector<rast::float4> plain = film(s, rs, &plainStats);
+          std::vector<rast::float4> hooked;
+          {
+            Guard g;
+            hooked = film(s, rs, &hookStats);
+          }
+          CHECK(sameBits(plain, hooked));
+          CHECK(plainStats.blendFragments == hookStats.blendFragments);
+          CHECK(plainStats.blendMaxDepth == hookStats.blendMaxDepth);
+        }
+  }
+}
+
 TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transparency][blend]") {
   // GPUs resolve exact and sorted a team per 8x8 block, its list set up once
   // in team scratch (peel_team.h, PeelTeam); TestHooks::teamResolve runs
@@ -334,30 +365,10 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
     Team() { testHooks().teamResolve = true; }
     ~Team() { testHooks().teamResolve = false; }
   };
-  for (const char* name : {"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
-                           "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
-                           "builtin:layers?n=6&mixed=1&equal=1", "builtin:cutout?blend=1"}) {
-    const Scene s = builtinScene(name);
-    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr})
-      for (int msaa : {1, 4})
-        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
-          INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
-          RenderSettings rs = small();
-          rs.shading = mode;
-          rs.msaa = msaa;
-          rs.transparency = t;
-          FrameStats plainStats, teamStats;
-          const std::vector<rast::float4> plain = film(s, rs, &plainStats);
-          std::vector<rast::float4> team;
-          {
-            Team g;
-            team = film(s, rs, &teamStats);
-          }
-          CHECK(sameBits(plain, team));
-          CHECK(plainStats.blendFragments == teamStats.blendFragments);
-          CHECK(plainStats.blendMaxDepth == teamStats.blendMaxDepth);
-        }
-  }
+  sameUnderHook<Team>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
+                       "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
+                       "builtin:layers?n=6&mixed=1&equal=1", "builtin:cutout?blend=1"},
+                      small());
   // A second frame sizes the scratch for the first frame's longest list
   // (40 intersecting layers: up to 80 triangles a block, past the smaller
   // scratch): the same bits as the first frame, which walked those lists
@@ -391,31 +402,10 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
     Rows() { testHooks().peelRows = true; }
     ~Rows() { testHooks().peelRows = false; }
   };
-  for (const char* name :
-       {"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
-        "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=6&mixed=1&equal=1",
-        "builtin:layers?n=64&alpha=0.1", "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"}) {
-    const Scene s = builtinScene(name);
-    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::BlinnPhong, ShadingMode::Pbr})
-      for (int msaa : {1, 4})
-        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
-          INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
-          RenderSettings rs = small(93, 53);
-          rs.shading = mode;
-          rs.msaa = msaa;
-          rs.transparency = t;
-          FrameStats blockStats, rowStats;
-          const std::vector<rast::float4> blocks = film(s, rs, &blockStats);
-          std::vector<rast::float4> rows;
-          {
-            Rows g;
-            rows = film(s, rs, &rowStats);
-          }
-          CHECK(sameBits(blocks, rows));
-          CHECK(blockStats.blendFragments == rowStats.blendFragments);
-          CHECK(blockStats.blendMaxDepth == rowStats.blendMaxDepth);
-        }
-  }
+  sameUnderHook<Rows>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
+                       "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=6&mixed=1&equal=1",
+                       "builtin:layers?n=64&alpha=0.1", "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"},
+                      small(93, 53));
 }
 
 TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer (weighted: its fixed sums) and say so",
