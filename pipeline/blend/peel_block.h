@@ -24,6 +24,7 @@ namespace blending {
 
 // Longest list walked in order (its set-up lives on the thread's stack).
 constexpr uint32_t kBlockOrderMax = 64;
+static_assert(kItemShift == 3, "the block loops below take 8x8 blocks: q = 8 y + x");
 
 // One triangle's edges and depth terms at one sample over a block: the edge
 // values at the sample of the block's corner pixel and their steps a pixel
