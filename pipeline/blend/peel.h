@@ -144,7 +144,29 @@ struct Peel {
   KOKKOS_INLINE_FUNCTION bool litLanesAt(const uint32_t tri, const int s, const int32_t (&X)[kCap],
                                          const int32_t (&Ys)[kCap], const int m, PeelCache& cache,
                                          float4 (&out)[kCap]) const {
-    using shading::SpanConsts;
+    shading::SpanConsts c;
+    float4 base;
+    float alpha;
+    if (!litSetup(tri, s, cache, c, base, alpha)) return false;
+    if (!(alpha > 0.0f)) {
+      for (int j = 0; j < m; ++j) out[j] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+      return true;
+    }
+    alignas(32) float b0[kCap], b1[kCap], b2[kCap], nx[kCap], ny[kCap], nz[kCap], diffuse[kCap];
+    shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
+    for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)
+      const float3 rgb = float3{base.x, base.y, base.z} * diffuse[j] + float3{0.0f, 0.0f, 0.0f};
+      out[j] = float4{rgb.x, rgb.y, rgb.z, alpha};
+    }
+    return true;
+  }
+  // litLanesAt's set-up of triangle tri at sample s: its span constants (the
+  // edge values at the sample of pixel (X, Y), Edges::atSample, exact
+  // integers in double; the headlight's lighting; set only for alpha above
+  // 0), its base colour and its alpha (AlphaScene::alphaFrom of a constant
+  // alpha); false where its colour varies (textures, vertex colours).
+  KOKKOS_INLINE_FUNCTION bool litSetup(const uint32_t tri, const int s, PeelCache& cache, shading::SpanConsts& c,
+                                       float4& base, float& alpha) const {
     const int e = cache.slot(tri);
     if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
     fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
@@ -152,23 +174,11 @@ struct Peel {
     const AlphaTri& a = cache.a[e];
     const TriFrag& f = cache.tf[e];
     if (a.textured || fs.sc.hasColor || f.textured) return false;
-    const float alpha = cleanAlpha(a.alpha);  // AlphaScene::alphaFrom of a constant alpha
-    if (!(alpha > 0.0f)) {
-      for (int j = 0; j < m; ++j) out[j] = float4{0.0f, 0.0f, 0.0f, 0.0f};
-      return true;
-    }
-    // The edge values at the sample of pixel (X, Y) (Edges::atSample),
-    // exact integers in double; the headlight's lighting.
-    SpanConsts c;
-    fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
-                   1.0f - fs.sh.p.ambient);
-    alignas(32) float b0[kCap], b1[kCap], b2[kCap], nx[kCap], ny[kCap], nz[kCap], diffuse[kCap];
-    shading::spanLightingLanesWide(c, m, X, Ys, b0, b1, b2, nx, ny, nz, diffuse);
-    const float4 base = f.baseColor;
-    for (int j = 0; j < m; ++j) {  // Shade::litLight's colour (spec is 0 in Lambert)
-      const float3 rgb = float3{base.x, base.y, base.z} * diffuse[j] + float3{0.0f, 0.0f, 0.0f};
-      out[j] = float4{rgb.x, rgb.y, rgb.z, alpha};
-    }
+    alpha = cleanAlpha(a.alpha);
+    base = f.baseColor;
+    if (alpha > 0.0f)
+      fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
+                     1.0f - fs.sh.p.ambient);
     return true;
   }
   KOKKOS_INLINE_FUNCTION void compositeLanes(const int32_t x0, const int32_t Y, const int s, const int32_t run,

@@ -8,7 +8,8 @@
 // each triangle in turn is walked over the block's 64 pixels and its
 // fragments in front of the opaque depth are shaded together (Lambert under
 // the headlight: the span shader's vector loop over them all, one set-up a
-// triangle and sample) and composited as found: no keys, no insertion, no
+// triangle and sample; where they are half the block or more, over all 64
+// pixels, masked, with no gathering into lanes) and composited as found: no keys, no insertion, no
 // second walk, and a triangle's set-up once for the block instead of once a
 // row and pass. Other blocks (overlapping ranges, lists longer than
 // kBlockOrderMax) take peel.h's rows. The same fragments are composited in
@@ -71,6 +72,52 @@ RAST_CPU_CLONES void overBlockWide(float* __restrict__ aR, float* __restrict__ a
     aG[q] = f ? aG[q] + cG[q] * tw : aG[q];
     aB[q] = f ? aB[q] + cB[q] * tw : aB[q];
     T[q] = f ? t * (1.0f - a) : t;
+  }
+}
+
+// A triangle of constant colour under Lambert's headlight (Peel::litSetup:
+// span constants k, base colour, alpha above 0) lit at the block's 64 pixels
+// at once (X, Y: theirs) by the span shader's lane loop, and composited
+// where pass[q]: exact and sorted "over" (overBlockWide's arithmetic) where
+// the pixel is not yet opaque; weighted's sums (weightedTerms', the weights
+// FragShade::weightOf of depth z[q], near and far planes zn, zf, one array a
+// sum). A block that a layer covers has 64 fragments: this leaves out the
+// gathering of the fragments into lanes and the scatter of their colours
+// back (peel_block.h's walk takes it when half the block's pixels or more
+// have one). Each pixel's lighting is its own lane's: the same bits.
+RAST_CPU_CLONES void litOverBlockWide(const shading::SpanConsts& k, const int32_t* __restrict__ X,
+                                      const int32_t* __restrict__ Y, const int32_t* __restrict__ pass,
+                                      const float4 base, const float alpha, float* __restrict__ aR,
+                                      float* __restrict__ aG, float* __restrict__ aB, float* __restrict__ T) {
+  alignas(64) float b0[64], b1[64], b2[64], nx[64], ny[64], nz[64], diffuse[64];
+  shading::spanLightingLanes(k, 64, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
+  for (int q = 0; q < 64; ++q) {
+    const float d = diffuse[q], t = T[q], tw = t * alpha;
+    const bool f = (pass[q] != 0) & (t > 0.0f);
+    const float r = base.x * d + 0.0f, g = base.y * d + 0.0f, b = base.z * d + 0.0f;  // Peel::litLanesAt's colour
+    aR[q] = f ? aR[q] + r * tw : aR[q];
+    aG[q] = f ? aG[q] + g * tw : aG[q];
+    aB[q] = f ? aB[q] + b * tw : aB[q];
+    T[q] = f ? t * (1.0f - alpha) : t;
+  }
+}
+RAST_CPU_CLONES void litWeightedBlockWide(const shading::SpanConsts& k, const int32_t* __restrict__ X,
+                                          const int32_t* __restrict__ Y, const int32_t* __restrict__ pass,
+                                          const float* __restrict__ z, const float zn, const float zf,
+                                          const float4 base, const float alpha, float* __restrict__ wR,
+                                          float* __restrict__ wG, float* __restrict__ wB, float* __restrict__ wA,
+                                          float* __restrict__ reveal) {
+  alignas(64) float b0[64], b1[64], b2[64], nx[64], ny[64], nz[64], diffuse[64];
+  shading::spanLightingLanes(k, 64, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
+  for (int q = 0; q < 64; ++q) {
+    const float d = diffuse[q], w = FragShade::weightOf(z[q], zn, zf);
+    const bool f = pass[q] != 0;
+    const float r = base.x * d + 0.0f, g = base.y * d + 0.0f, b = base.z * d + 0.0f;
+    wR[q] = f ? wR[q] + r * alpha * w : wR[q];
+    wG[q] = f ? wG[q] + g * alpha * w : wG[q];
+    wB[q] = f ? wB[q] + b * alpha * w : wB[q];
+    wA[q] = f ? wA[q] + alpha * w : wA[q];
+    reveal[q] = f ? reveal[q] * (1.0f - alpha) : reveal[q];
   }
 }
 
@@ -152,19 +199,23 @@ struct PeelBlocks {
     const int S = fs.sp.count;
     const float zn = fs.sh.p.frame(0).camera.znear, zf = fs.sh.p.frame(0).camera.zfar;  // weighted's weights
     float4 sum[kPixels];
-    for (int q = 0; q < kPixels; ++q) sum[q] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+    alignas(64) int32_t Xb[kPixels], Yb[kPixels];  // the block's pixels
+    for (int q = 0; q < kPixels; ++q) {
+      sum[q] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+      Xb[q] = x0 + (q & (kSide - 1));
+      Yb[q] = y0 + (q >> kItemShift);
+    }
     for (int s = 0; s < S; ++s) {
       const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
       // What lies in front, a channel an array (overBlockWide), and the
       // transmittance; weighted's sums.
       alignas(64) float aR[kPixels], aG[kPixels], aB[kPixels], T[kPixels];
-      float reveal[kPixels];
-      float4 w[kPixels];
+      alignas(64) float wR[kPixels], wG[kPixels], wB[kPixels], wA[kPixels], reveal[kPixels];
       alignas(64) uint32_t cnt[kPixels], opq[kPixels];
       for (int q = 0; q < kPixels; ++q) {
         aR[q] = aG[q] = aB[q] = 0.0f;
         T[q] = 1.0f;
-        w[q] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+        wR[q] = wG[q] = wB[q] = wA[q] = 0.0f;
         reveal[q] = 1.0f;
         cnt[q] = 0;
         opq[q] = 0;  // no pixel: no fragment
@@ -192,13 +243,29 @@ struct PeelBlocks {
         alignas(64) float z[kPixels];
         blockFragmentsWide(be, opq, cnt, pass, z);
         // The fragments to shade: of pixels not yet opaque (weighted: all).
-        int lane[kPixels];
         int m = 0;
+        for (int q = 0; q < kPixels; ++q) m += pass[q] & (weighted || T[q] > 0.0f ? 1 : 0);
+        if (m == 0) continue;
+        if constexpr (P::kLanes) {
+          // Half the block or more: lit and composited at every pixel at once.
+          shading::SpanConsts c;
+          float4 base;
+          float alpha;
+          if (p.lambertLanes && 2 * m >= kPixels && p.litSetup(i, s, cache, c, base, alpha)) {
+            if (!(alpha > 0.0f)) continue;  // no fragment
+            if (weighted)
+              litWeightedBlockWide(c, Xb, Yb, pass, z, zn, zf, base, alpha, wR, wG, wB, wA, reveal);
+            else
+              litOverBlockWide(c, Xb, Yb, pass, base, alpha, aR, aG, aB, T);
+            continue;
+          }
+        }
+        int lane[kPixels];
+        m = 0;
         for (int q = 0; q < kPixels; ++q) {
           lane[m] = q;
           m += pass[q] & (weighted || T[q] > 0.0f ? 1 : 0);
         }
-        if (m == 0) continue;
         alignas(64) int32_t X[kPixels], Y[kPixels];
         for (int k = 0; k < m; ++k) {
           X[k] = x0 + (lane[k] & (kSide - 1));
@@ -220,8 +287,16 @@ struct PeelBlocks {
           // The fragments' weights first, in a loop of their own (it vectorizes).
           float wt[kPixels];
           for (int k = 0; k < m; ++k) wt[k] = FragShade::weightOf(z[lane[k]], zn, zf);
-          for (int k = 0; k < m; ++k)
-            if (col[k].w > 0.0f) weightedTerms(w[lane[k]], reveal[lane[k]], col[k], wt[k]);  // alpha 0 (or NaN): no fragment
+          for (int k = 0; k < m; ++k) {
+            if (!(col[k].w > 0.0f)) continue;  // alpha 0 (or NaN): no fragment
+            const int q = lane[k];
+            float4 wq{wR[q], wG[q], wB[q], wA[q]};
+            weightedTerms(wq, reveal[q], col[k], wt[k]);
+            wR[q] = wq.x;
+            wG[q] = wq.y;
+            wB[q] = wq.z;
+            wA[q] = wq.w;
+          }
           continue;
         }
         alignas(64) float cR[kPixels], cG[kPixels], cB[kPixels], cA[kPixels];
@@ -242,7 +317,7 @@ struct PeelBlocks {
           p.count(cnt[q], frags);
           float3 acc{aR[q], aG[q], aB[q]};
           float Tq = T[q];
-          if (weighted) weightedFront(w[q], reveal[q], acc, Tq);
+          if (weighted) weightedFront(float4{wR[q], wG[q], wB[q], wA[q]}, reveal[q], acc, Tq);
           const int64_t px = int64_t(y0 + yy) * p.width + x0 + xx;
           const float4 out = overOpaque(acc, Tq, p.hdr(px));
           if (S == 1) {
