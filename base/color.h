@@ -120,6 +120,20 @@ KOKKOS_INLINE_FUNCTION uint32_t packRaw8(float4 c) {
   return unorm8(c.x) | unorm8(c.y) << 8 | unorm8(c.z) << 16 | 0xff000000u;
 }
 
+// The float film's one encoding of a pixel (postEncode's, and the BLEND
+// resolve's where it folds the encode in): light as sRGB bytes, the
+// diagnostic modes' data (raw) as raw bytes; straight: the film holds
+// premultiplied alpha and the bytes are straight alpha, as PNG stores them.
+template <class Packed>
+KOKKOS_INLINE_FUNCTION uint32_t encodeFilm(float4 c, const bool raw, const bool straight, const Packed& packed) {
+  if (!straight) return raw ? packRaw8(c) : packSrgb8Packed(c, packed);
+  const float a = c.w > 0.0f ? (c.w < 1.0f ? c.w : 1.0f) : 0.0f;  // NaN: 0
+  if (a > 0.0f && a < 1.0f) c = float4{c.x / a, c.y / a, c.z / a, a};
+  c.w = a;
+  const uint32_t rgb = raw ? packRaw8(c) & 0xffffffu : packSrgb8Packed(c, packed) & 0xffffffu;
+  return rgb | unorm8(a) << 24;
+}
+
 // The inverse of the two packings (linear light, or raw values in [0,1]).
 template <class Lut>
 KOKKOS_INLINE_FUNCTION float4 unpackSrgb8(uint32_t c, const Lut& lut) {

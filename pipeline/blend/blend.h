@@ -22,6 +22,11 @@ struct BlendPlan {
   // The method walks tile lists (exact and sorted always; weighted unless
   // its lists would exceed the memory budget, then its fixed-memory sums).
   bool lists = true;
+  // The resolve also writes the frame's RGBA8 colour (encodeFilm: raw, the
+  // diagnostic modes' bytes; straight, straight alpha), and the post chain,
+  // which would only encode the film, does not run: the tile lists' resolve
+  // writes every pixel, and the film then has no other pass to wait for.
+  bool encode = false, raw = false, straight = false;
 };
 
 // Whether `method` walks tile lists, `fallback` telling that they would

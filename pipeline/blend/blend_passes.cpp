@@ -239,7 +239,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
 void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                   const BlendPlan& b) {
   if (b.lists) {
-    peelResolve(s, f, p, lights, b.method);
+    peelResolve(s, f, p, lights, b);
     return;
   }
   const int32_t runs = (f.vp.width + kResolveRun - 1) / kResolveRun;

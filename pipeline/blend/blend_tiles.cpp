@@ -253,6 +253,8 @@ struct PeelLaunch {
   const Kokkos::Sum<uint64_t, Mem>& result;
   int64_t items;
   int32_t blocksX, sorted, weighted;
+  const BlendPlan& plan;
+  const DView<uint32_t>& packed;  // the sRGB encoder's table, where the resolve encodes (plan.encode)
   template <unsigned kThreads, unsigned kTeams, class Team>
   static void launchTeams(const Team& team) {
     using Policy = Kokkos::TeamPolicy<Exec, Kokkos::LaunchBounds<kThreads, kTeams>>;
@@ -268,7 +270,8 @@ struct PeelLaunch {
     const BlendBuffers& bb = f.blend;
     const Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
                                  bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted,
-                                 fs.sh.p.mode == ShadingMode::Lambert && fs.sh.p.headlight ? 1 : 0, weighted};
+                                 fs.sh.p.mode == ShadingMode::Lambert && fs.sh.p.headlight ? 1 : 0, weighted,
+                                 f.color, packed, plan.encode ? 1 : 0, plan.raw ? 1 : 0, plan.straight ? 1 : 0};
     // The specialised resolves keep everything inline (nothing takes a
     // local's address) and launch lightweight, as the shade stage's lit and
     // glTF kernels; the general one calls the general fragment maths out
@@ -345,7 +348,8 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
 }
 
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                 const Transparency method) {
+                 const BlendPlan& b) {
+  const Transparency method = b.method;
   const BlendBuffers& bb = f.blend;
   const int32_t blocksX = (f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
   const int64_t blocks = int64_t(blocksX) * ((f.vp.height + (1 << kItemShift) - 1) >> kItemShift);
@@ -356,7 +360,7 @@ void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, co
   const Kokkos::Sum<uint64_t, Mem> result(Kokkos::View<uint64_t, Mem>(bb.totals.data() + kBlendFrags));
   const FragShade fs = makeFragShade(s, f, p, lights);
   withFragPath(fs, PeelLaunch{fs, f, result, items, blocksX, method == Transparency::Sorted ? 1 : 0,
-                              method == Transparency::Weighted ? 1 : 0});
+                              method == Transparency::Weighted ? 1 : 0, b, s.srgbEncodePacked});
 }
 
 }  // namespace blending

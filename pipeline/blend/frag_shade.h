@@ -271,7 +271,7 @@ FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams
 // `fam`), and the resolve after it.
 void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, bool rasterOrder, FragFamily fam);
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                 Transparency method);
+                 const BlendPlan& b);
 
 }  // namespace blending
 }  // namespace rast

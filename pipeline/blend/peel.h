@@ -11,6 +11,7 @@
 #pragma once
 
 #include "pipeline/blend/frag_shade.h"
+#include "base/color.h"
 #include "pipeline/cpu/span_math.h"
 
 namespace rast {
@@ -70,6 +71,38 @@ struct Peel {
   int32_t width, height, blocksX, sorted;
   int32_t lambertLanes = 0;  // Lambert under the headlight (compositeLanes)
   int32_t weighted = 0;      // weighted: rowWeighted's sums instead of the peel
+  // The frame's RGBA8 colour and the sRGB encoder's table, written where the
+  // resolve folds the film's encoding in (BlendPlan::encode, raw, straight).
+  DView<uint32_t> color, packed;
+  int32_t encode = 0, raw = 0, straight = 0;
+
+  // Sample s of S of pixel px: what lies in front (acc, transmittance T)
+  // over the opaque colour in the film; with several samples their running
+  // sum, averaged into the film at the last. Where the resolve encodes, the
+  // pixel's bytes too (encodeFilm: postEncode's; only CPUs do,
+  // kBlendResolveEncodes). Every form of the resolve ends a sample here.
+  RAST_GPU_INLINE void filmSample(const int64_t px, const int s, const int S, const float3 acc, const float T,
+                                  float4& sum) const {
+    float4 c;
+    if (filmValue(px, s, S, acc, T, sum, c) && kBlendResolveEncodes && encode)
+      color(px) = encodeFilm(c, raw != 0, straight != 0, packed);
+  }
+  // The same but for the bytes: true and the pixel's colour c where it is
+  // final (the last sample), which the caller encodes (peel_block.h: a
+  // block's at once).
+  RAST_GPU_INLINE bool filmValue(const int64_t px, const int s, const int S, const float3 acc, const float T,
+                                 float4& sum, float4& c) const {
+    const float4 out = overOpaque(acc, T, hdr(px));
+    if (S == 1) {
+      c = out;
+    } else {
+      sum = sum + out;
+      if (s + 1 < S) return false;
+      c = sum * (1.0f / float(S));
+    }
+    hdr(px) = c;
+    return true;
+  }
 
   // sorted's key: its triangle's, whatever the sample.
   RAST_GPU_INLINE uint64_t sortedKeyOf(uint32_t i) const {
@@ -302,16 +335,7 @@ struct Peel {
           }
         }
       }
-      for (int r = 0; r < kPeelRun && r < run; ++r) {
-        const int64_t i = int64_t(Y) * width + x0 + r;
-        const float4 out = overOpaque(acc[r], T[r], hdr(i));
-        if (S == 1) {
-          hdr(i) = out;
-        } else {
-          sum[r] = sum[r] + out;
-          if (s + 1 == S) hdr(i) = sum[r] * (1.0f / float(S));
-        }
-      }
+      for (int r = 0; r < kPeelRun && r < run; ++r) filmSample(int64_t(Y) * width + x0 + r, s, S, acc[r], T[r], sum[r]);
     }
   }
 
@@ -374,14 +398,7 @@ struct Peel {
         float3 acc;
         float T;
         weightedFront(w[r], reveal[r], acc, T);
-        const int64_t i = int64_t(Y) * width + x0 + r;
-        const float4 out = overOpaque(acc, T, hdr(i));
-        if (S == 1) {
-          hdr(i) = out;
-        } else {
-          sum[r] = sum[r] + out;
-          if (s + 1 == S) hdr(i) = sum[r] * (1.0f / float(S));
-        }
+        filmSample(int64_t(Y) * width + x0 + r, s, S, acc, T, sum[r]);
       }
     }
   }

@@ -121,6 +121,18 @@ RAST_CPU_CLONES void litWeightedBlockWide(const shading::SpanConsts& k, const in
   }
 }
 
+// A block's film pixels encoded as sRGB bytes with opaque alpha
+// (encodeFilm's light, not straight: packSrgb8Packed's table lookups,
+// encodeSrgb8Packed, a channel at a time), in a loop that AVX2's gathers
+// vectorize (cpu_clones.h: no AVX-512 variant for table lookups).
+RAST_CPU_CLONES_GATHER void encodeBlockWide(const float* __restrict__ r, const float* __restrict__ g,
+                                            const float* __restrict__ b, const float* __restrict__ a,
+                                            const uint32_t* __restrict__ table, uint32_t* __restrict__ out) {
+  for (int q = 0; q < 64; ++q)
+    out[q] = encodeSrgb8Packed(r[q], table) | encodeSrgb8Packed(g[q], table) << 8 |
+             encodeSrgb8Packed(b[q], table) << 16 | unorm8(a[q]) << 24;
+}
+
 template <int kFam, int kFeat>
 struct PeelBlocks {
   static constexpr int32_t kSide = 1 << kItemShift, kPixels = kSide * kSide;
@@ -311,6 +323,10 @@ struct PeelBlocks {
         }
         overBlockWide(aR, aG, aB, T, cR, cG, cB, cA);  // alpha 0 (or NaN): no fragment
       }
+      // The film (Peel::filmValue); at the last sample, where the resolve
+      // encodes, the block's bytes in one loop.
+      alignas(64) float fR[kPixels], fG[kPixels], fB[kPixels], fA[kPixels];
+      for (int q = 0; q < kPixels; ++q) fR[q] = fG[q] = fB[q] = fA[q] = 0.0f;  // pixels outside the frame
       for (int32_t yy = 0; yy < rows; ++yy)
         for (int32_t xx = 0; xx < cols; ++xx) {
           const int q = yy * kSide + xx;
@@ -318,15 +334,23 @@ struct PeelBlocks {
           float3 acc{aR[q], aG[q], aB[q]};
           float Tq = T[q];
           if (weighted) weightedFront(float4{wR[q], wG[q], wB[q], wA[q]}, reveal[q], acc, Tq);
-          const int64_t px = int64_t(y0 + yy) * p.width + x0 + xx;
-          const float4 out = overOpaque(acc, Tq, p.hdr(px));
-          if (S == 1) {
-            p.hdr(px) = out;
-          } else {
-            sum[q] = sum[q] + out;
-            if (s + 1 == S) p.hdr(px) = sum[q] * (1.0f / float(S));
-          }
+          float4 c;
+          p.filmValue(int64_t(y0 + yy) * p.width + x0 + xx, s, S, acc, Tq, sum[q], c);
+          fR[q] = c.x;
+          fG[q] = c.y;
+          fB[q] = c.z;
+          fA[q] = c.w;
         }
+      if (s + 1 == S && p.encode) {
+        alignas(64) uint32_t bytes[kPixels];
+        if (p.raw || p.straight)
+          for (int q = 0; q < kPixels; ++q)
+            bytes[q] = encodeFilm(float4{fR[q], fG[q], fB[q], fA[q]}, p.raw != 0, p.straight != 0, p.packed);
+        else
+          encodeBlockWide(fR, fG, fB, fA, p.packed.data(), bytes);
+        for (int32_t yy = 0; yy < rows; ++yy)
+          for (int32_t xx = 0; xx < cols; ++xx) p.color(int64_t(y0 + yy) * p.width + x0 + xx) = bytes[yy * kSide + xx];
+      }
     }
   }
 };

@@ -214,7 +214,7 @@ struct PeelTeam {
 
   // Each sample of pixel (X, Y): op(s, sample's opaque depth bits, acc, T)
   // composites the fragments in front of it from acc = 0, T = 1; the result
-  // over the opaque colour into the film, the samples averaged (row()'s end).
+  // over the opaque colour into the film, the samples averaged (Peel::filmSample).
   template <class Op>
   RAST_GPU_INLINE void eachSample(const int32_t X, const int32_t Y, Op&& op) const {
     const Peel<kFam, kFeat>& P = peel;
@@ -225,13 +225,7 @@ struct PeelTeam {
       float3 acc{0.0f, 0.0f, 0.0f};
       float T = 1.0f;
       op(s, P.opaque(px * S + s), acc, T);
-      const float4 out = overOpaque(acc, T, P.hdr(px));
-      if (S == 1) {
-        P.hdr(px) = out;
-      } else {
-        sum = sum + out;
-        if (s + 1 == S) P.hdr(px) = sum * (1.0f / float(S));
-      }
+      P.filmSample(px, s, S, acc, T, sum);
     }
   }
   // The statistics: every fragment in front of the opaque depth.

@@ -45,6 +45,10 @@ struct TestHooks {
   // (peel_block.h), so that the two are checked against each other. GPUs
   // ignore it (their team form walks in order itself).
   bool peelRows = false;
+  // true: the post chain encodes every frame's film, never the tile lists'
+  // resolve as it writes the film (BlendPlan::encode), so that the two are
+  // checked against each other.
+  bool chainEncode = false;
 
   // The values as bytes, for the frame plan's key.
   std::string key() const;

@@ -136,6 +136,14 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   p.blend.lists = walksTileLists(p.blend.method, in.blendFallback);
   // A transparent background (alpha < 1): the film keeps alpha, premultiplied.
   p.film = p.film || (in.blendFilm && p.fill) || rs.background.w < 1.0f;
+  // The tile lists' resolve writes every pixel of the film last: where no
+  // post pass, float output, supersampling or split reads the film after it,
+  // it writes the colour's bytes too and the post chain does not run, where
+  // that is faster (kBlendResolveEncodes: CPUs).
+  p.blend.encode = kBlendResolveEncodes && p.blend.blend && p.blend.lists && !rs.post.needsFloat() &&
+                   !in.supersampling && !in.keepKeys && !rs.keysOnly && !testHooks().chainEncode;
+  p.blend.raw = isRawShading(rs.shading);
+  p.blend.straight = rs.background.w < 1.0f;
   p.lines = makeLinePass(*in.scene, rs);
   p.shadeParams = shadeParamsFor(rs, f, p);
   // On the CPU the binned raster can shade each tile as it finishes: the
@@ -156,7 +164,7 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   p.key = settingsKey(rs) + testHooks().key();
   for (uint64_t v : {uint64_t(p.method), uint64_t(p.autoStats), uint64_t(p.occluders), uint64_t(p.rowLanes),
                      uint64_t(f.visClear), uint64_t(in.supersampling), uint64_t(f.triCapacity), uint64_t(f.workCapacity),
-                     uint64_t(p.blend.method), uint64_t(p.blend.lists), f.blend.tileCapacity,
+                     uint64_t(p.blend.method), uint64_t(p.blend.lists), uint64_t(p.blend.encode), f.blend.tileCapacity,
                      p.blend.blend ? blendLaunchKey(f) : 0})
     p.key.append(reinterpret_cast<const char*>(&v), sizeof v);
   return p;

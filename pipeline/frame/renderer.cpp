@@ -266,7 +266,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
     Kokkos::View<const mat4f*, Kokkos::HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> h(upload_.data(), upload_.size());
     Kokkos::deep_copy(Kokkos::subview(frame_.uploaded, std::make_pair(size_t(0), upload_.size())), h);
     launchFrame(plan_, timer);
-    if (plan_.film && !supersampling_ && (!split_ || split_->holdsFrame())) runPost(cam, rs, timer);
+    if (plan_.film && !supersampling_ && !plan_.blend.encode && (!split_ || split_->holdsFrame())) runPost(cam, rs, timer);
     return;
   }
   // The camera reaches the kernels through device memory, copied first; the
@@ -277,7 +277,7 @@ void Renderer::enqueue(const Camera& cam, const RenderSettings& rs, StageTimer* 
     visClear = frame_.visClear ? 1 : 0;
   });
   frame_.visClear = visClear != 0;
-  if (plan_.film && !supersampling_) runPost(cam, rs, timer);
+  if (plan_.film && !supersampling_ && !plan_.blend.encode) runPost(cam, rs, timer);  // else encoded by the resolve
 }
 
 void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {

@@ -122,6 +122,8 @@ class Renderer {
   // frame_buffers.h), for callers that wrap them without a copy (api/, the
   // library's Frame). Valid until the next frame.
   const FrameBuffers& frameBuffers() const { return frame_; }
+  // What the last frame decided (raster method, shading path, transparency).
+  const FramePlan& lastPlan() const { return plan_; }
   std::vector<float> depthBottomUp() const;
   std::vector<uint32_t> primIdsBottomUp() const;
   std::vector<float3> normalsBottomUp() const;

@@ -10,19 +10,15 @@ namespace rast {
 
 void postEncode(const DView<float4>& hdr, int64_t n, const DView<uint32_t>& color, const DView<uint32_t>& packed, bool raw,
                 bool straight) {
+  // encodeFilm (base/color.h), one kernel for each kind of alpha.
   if (straight) {
     Kokkos::parallel_for("rast::post::encode_straight", Range(0, n), KOKKOS_LAMBDA(const int64_t i) {
-      float4 c = hdr(i);
-      const float a = c.w > 0.0f ? (c.w < 1.0f ? c.w : 1.0f) : 0.0f;  // NaN: 0
-      if (a > 0.0f && a < 1.0f) c = float4{c.x / a, c.y / a, c.z / a, a};
-      c.w = a;
-      const uint32_t rgb = raw ? packRaw8(c) & 0xffffffu : packSrgb8Packed(c, packed) & 0xffffffu;
-      color(i) = rgb | unorm8(a) << 24;
+      color(i) = encodeFilm(hdr(i), raw, true, packed);
     });
     return;
   }
   Kokkos::parallel_for("rast::post::encode", Range(0, n), KOKKOS_LAMBDA(const int64_t i) {
-    color(i) = raw ? packRaw8(hdr(i)) : packSrgb8Packed(hdr(i), packed);
+    color(i) = encodeFilm(hdr(i), raw, false, packed);
   });
 }
 

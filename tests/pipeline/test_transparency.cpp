@@ -408,6 +408,53 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
                       small(93, 53));
 }
 
+TEST_CASE("BLEND: the tile lists' resolve encodes the colour to the post chain's bytes", "[transparency][blend]") {
+  // Where nothing reads the float film after the tile lists' resolve (no
+  // post pass, no float output, no supersampling), the resolve writes the
+  // colour's bytes too (BlendPlan::encode, encodeFilm) and the post chain
+  // does not run (on CPUs: kBlendResolveEncodes); TestHooks::chainEncode
+  // makes the chain encode instead.
+  // Light and raw data (the normals mode), an opaque, a transparent and a
+  // half-transparent background (straight alpha), one and four samples, the
+  // three listed methods; the frame's size not a multiple of 8.
+  struct Chain {
+    Chain() { testHooks().chainEncode = true; }
+    ~Chain() { testHooks().chainEncode = false; }
+  };
+  for (const char* name : {"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=12&mixed=1&cross=1&unlit=0",
+                           "builtin:layers?n=64&alpha=0.1", "builtin:cutout?blend=1"}) {
+    const Scene s = builtinScene(name);
+    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::Pbr, ShadingMode::Normals})
+      for (int msaa : {1, 4})
+        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted})
+          for (const rast::float4 bg : {rast::float4{0.1f, 0.2f, 0.3f, 1.0f}, rast::float4{0.0f, 0.0f, 0.0f, 0.0f},
+                                        rast::float4{0.2f, 0.3f, 0.4f, 0.5f}}) {
+            INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t) << " alpha " << bg.w);
+            RenderSettings rs = small(93, 53);
+            rs.shading = mode;
+            rs.msaa = msaa;
+            rs.transparency = t;
+            rs.background = bg;
+            Renderer folded(s);
+            folded.render(defaultCamera(s), rs);
+            CHECK(folded.lastPlan().blend.encode == kBlendResolveEncodes);  // CPUs: kept where faster
+            Chain g;
+            Renderer chained(s);
+            chained.render(defaultCamera(s), rs);
+            CHECK(!chained.lastPlan().blend.encode);
+            CHECK(folded.colorTopDown() == chained.colorTopDown());
+          }
+  }
+  // A post pass reads the film after the resolve: the chain encodes.
+  const Scene s = builtinScene("builtin:layers?n=8&mixed=1");
+  RenderSettings rs = small();
+  rs.post.exposure = 0.5f;
+  Renderer r(s);
+  r.render(defaultCamera(s), rs);
+  CHECK(r.lastPlan().blend.blend);
+  CHECK(!r.lastPlan().blend.encode);
+}
+
 TEST_CASE("BLEND: tile lists over the memory budget fall back to kbuffer (weighted: its fixed sums) and say so",
           "[transparency][blend]") {
   {  // the statistics the tile lists' resolve reduces
