@@ -382,13 +382,23 @@ struct ShadePbr {
   }
 
   // Shade::shadeFragment's path for the glTF shading at a pixel centre.
+  // The normal and position are interpolated before the shading where the
+  // normals or geometry outputs read them (n0, p0), else only where the
+  // material is lit (shadePbrWith asks past its unlit return): an unlit
+  // material's pixel is then its base colour without a square root, the same
+  // bits either way.
   KOKKOS_FORCEINLINE_FUNCTION float4 fragment(const PbrFrag& q, int32_t X, int32_t Y, float3& n0, float3* p0) const {
     const TriFrag& f = q.f;
     if (f.index & kLineFlag) return k.lineShade.color(f.index & ~kLineFlag);
     float b0, b1, b2;
     k.bary(f, f.e, X, Y, 0, 0, b0, b1, b2);
-    const float3 N = normalize(f.n[0] * b0 + f.n[1] * b1 + f.n[2] * b2);
-    const float3 P = f.pos[0] * b0 + f.pos[1] * b1 + f.pos[2] * b2;
+    const auto surface = [&](float3& N, float3& P) {
+      N = normalize(f.n[0] * b0 + f.n[1] * b1 + f.n[2] * b2);
+      P = f.pos[0] * b0 + f.pos[1] * b1 + f.pos[2] * b2;
+    };
+    if (!k.p.wantNormals && !k.p.wantGeom) return k.template shadePbrWith<kFeat>(f, q.t, X, Y, 0, 0, b0, b1, b2, surface);
+    float3 N, P;
+    surface(N, P);
     n0 = N;
     if (p0) *p0 = P;
     return k.template shadePbr<kFeat>(f, q.t, X, Y, 0, 0, b0, b1, b2, N, P);
