@@ -89,6 +89,9 @@ struct FragShade {
   template <int kFam, int kFeat>
   RAST_GPU_INLINE float4 shadeAt(int32_t X, int32_t Y, int s, int64_t E0, int64_t E1, int64_t E2, const AlphaTri& a,
                                  const TriFrag& tf, const FragPbrTri<kFam>& pt) const {
+    float4 k;
+    if (constantColour<kFam, kFeat>(a, pt, k))  // nothing to interpolate (a GPU's branch: one triangle a warp)
+      return k.w > 0.0f ? k : float4{0.0f, 0.0f, 0.0f, 0.0f};
     float b0, b1, b2;
     sh.baryFrom(tf, E0, E1, E2, b0, b1, b2);
     const float alpha = sc.alphaFrom(a, b0, b1, b2);
@@ -105,6 +108,23 @@ struct FragShade {
       });
     }
     return float4{c.x, c.y, c.z, alpha};
+  }
+  // The colour and alpha (w) every fragment of a triangle has, where they do
+  // not vary over it: the glTF shading's unlit material, untextured, in a
+  // scene without vertex colours (shadePbrWith returns its base colour,
+  // alphaFrom its material's alpha); false elsewhere. shadeAt returns it
+  // without the barycentrics, and the CPU's block walk composites such a
+  // triangle's fragments without a call a fragment (peel_block.h): the same
+  // values, so the same bits.
+  template <int kFam, int kFeat>
+  RAST_GPU_INLINE bool constantColour(const AlphaTri& a, const FragPbrTri<kFam>& pt, float4& c) const {
+    if constexpr (kFam == kFragPbr && kFeat != shading::kPbrAny) {
+      if (!(pt.m.flags & kMaterialUnlit) || pt.textured || a.textured || sh.hasColor || sc.hasColor) return false;
+      c = float4{pt.m.baseColor.x, pt.m.baseColor.y, pt.m.baseColor.z, cleanAlpha(a.alpha)};
+      return true;
+    } else {
+      return false;
+    }
   }
   // Weighted blended OIT's weight (McGuire and Bavoil 2013, eq. 7) at window depth d.
   RAST_GPU_INLINE float weight(float d) const {

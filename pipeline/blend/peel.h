@@ -80,7 +80,8 @@ struct Peel {
   // over the opaque colour in the film; with several samples their running
   // sum, averaged into the film at the last. Where the resolve encodes, the
   // pixel's bytes too (encodeFilm: postEncode's; only CPUs do,
-  // kBlendResolveEncodes). Every form of the resolve ends a sample here.
+  // kBlendResolveEncodes). Every form of the resolve ends a sample here
+  // (the block walk with filmValue's arithmetic).
   RAST_GPU_INLINE void filmSample(const int64_t px, const int s, const int S, const float3 acc, const float T,
                                   float4& sum) const {
     float4 c;
@@ -88,8 +89,8 @@ struct Peel {
       color(px) = encodeFilm(c, raw != 0, straight != 0, packed);
   }
   // The same but for the bytes: true and the pixel's colour c where it is
-  // final (the last sample), which the caller encodes (peel_block.h: a
-  // block's at once).
+  // final (the last sample), which the caller encodes. (peel_block.h's walk
+  // takes a block's pixels at once with this arithmetic: filmBlockWide.)
   RAST_GPU_INLINE bool filmValue(const int64_t px, const int s, const int S, const float3 acc, const float T,
                                  float4& sum, float4& c) const {
     const float4 out = overOpaque(acc, T, hdr(px));
@@ -203,7 +204,7 @@ struct Peel {
     const int e = cache.slot(tri);
     if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
     fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
-    cache.evS[e] = -1;  // its stepped edge values are not this row's
+    cache.evS[e] = -1;  // its stepped edge values (FragCacheOf::at) are not this triangle's
     const AlphaTri& a = cache.a[e];
     const TriFrag& f = cache.tf[e];
     if (a.textured || fs.sc.hasColor || f.textured) return false;
@@ -213,6 +214,18 @@ struct Peel {
       fillSpanConsts(c, f, fs.sp.ox[s], fs.sp.oy[s], fs.sh.p.perspective != 0, f.eye, fs.sh.p.ambient,
                      1.0f - fs.sh.p.ambient);
     return true;
+  }
+  // A CPU, the glTF shading: triangles whose fragments all have one colour
+  // (FragShade::constantColour) are composited without shading (peel_block.h).
+  static constexpr bool kConstant = !kOnDevice && kFam == kFragPbr;
+  // Triangle tri's constant colour and alpha (w), its lookups prepared in
+  // the cache; false where they vary.
+  KOKKOS_INLINE_FUNCTION bool constantOf(const uint32_t tri, PeelCache& cache, float4& c) const {
+    const int e = cache.slot(tri);
+    if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
+    fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
+    cache.evS[e] = -1;  // its stepped edge values (FragCacheOf::at) are not this triangle's
+    return fs.template constantColour<kFam, kFeat>(cache.a[e], cache.pt[e], c);
   }
   KOKKOS_INLINE_FUNCTION void compositeLanes(const int32_t x0, const int32_t Y, const int s, const int32_t run,
                                              const uint64_t (&best)[kPeelRun][kPeelK], const uint32_t (&cnt)[kPeelRun],
@@ -340,9 +353,11 @@ struct Peel {
   }
 
   // The statistics: a sample's fragments in front of the opaque depth.
-  RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const {
-    frags += cnt;
-    if (cnt > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(cnt));
+  RAST_GPU_INLINE void count(const uint32_t cnt, uint64_t& frags) const { count(cnt, cnt, frags); }
+  // The same for many samples: n fragments, at most deepest at one.
+  RAST_GPU_INLINE void count(const uint64_t n, const uint32_t deepest, uint64_t& frags) const {
+    frags += n;
+    if (deepest > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(deepest));
   }
 
   // weighted: pixels x0 .. x0 + run - 1 of row Y, one walk of the list (in

@@ -58,33 +58,134 @@ RAST_CPU_CLONES void blockFragmentsWide(const BlockEdges& k, const uint32_t* __r
   }
 }
 
-// "over" (frag_shade.h) for a block's pixels at once, a pixel whose colour's
-// alpha cA[q] is above 0 composited (the others, alpha 0 or NaN or not a
-// fragment, unchanged): acc + rgb * (T * alpha), T * (1 - alpha), per channel
-// as over() computes them. Plain loops, also built for AVX-512 and AVX2.
+// One pixel q of a block composited with colour (r, g, b) and alpha above
+// 0 where f (a fragment): exact's and sorted's "over" (frag_shade.h's over()
+// a channel at a time: acc + rgb * (T * alpha), T * (1 - alpha)), weighted's
+// sums (weightedTerms', with weight w). Forced inline into the block loops
+// below, which vectorize over them.
+KOKKOS_FORCEINLINE_FUNCTION void overPixel(const int q, const bool f, const float r, const float g, const float b,
+                                           const float alpha, float* __restrict__ aR, float* __restrict__ aG,
+                                           float* __restrict__ aB, float* __restrict__ T) {
+  const float t = T[q], tw = t * alpha;
+  aR[q] = f ? aR[q] + r * tw : aR[q];
+  aG[q] = f ? aG[q] + g * tw : aG[q];
+  aB[q] = f ? aB[q] + b * tw : aB[q];
+  T[q] = f ? t * (1.0f - alpha) : t;
+}
+KOKKOS_FORCEINLINE_FUNCTION void weightedPixel(const int q, const bool f, const float r, const float g, const float b,
+                                               const float alpha, const float w, float* __restrict__ wR,
+                                               float* __restrict__ wG, float* __restrict__ wB, float* __restrict__ wA,
+                                               float* __restrict__ reveal) {
+  wR[q] = f ? wR[q] + r * alpha * w : wR[q];
+  wG[q] = f ? wG[q] + g * alpha * w : wG[q];
+  wB[q] = f ? wB[q] + b * alpha * w : wB[q];
+  wA[q] = f ? wA[q] + alpha * w : wA[q];
+  reveal[q] = f ? reveal[q] * (1.0f - alpha) : reveal[q];
+}
+
+// weightedFront for a block's pixels: what lies in front (aR, aG, aB) and
+// the transmittance T from weighted's sums and revealage.
+RAST_CPU_CLONES void weightedFrontBlockWide(const float* __restrict__ wR, const float* __restrict__ wG,
+                                            const float* __restrict__ wB, const float* __restrict__ wA,
+                                            const float* __restrict__ reveal, float* __restrict__ aR,
+                                            float* __restrict__ aG, float* __restrict__ aB, float* __restrict__ T) {
+  for (int q = 0; q < 64; ++q) {
+    const bool some = wA[q] > 0.0f;
+    const float t = some ? reveal[q] : 1.0f, k = (1.0f - t) / wA[q];
+    aR[q] = some ? wR[q] * k : 0.0f;
+    aG[q] = some ? wG[q] * k : 0.0f;
+    aB[q] = some ? wB[q] * k : 0.0f;
+    T[q] = t;
+  }
+}
+// Peel::filmValue for a block's pixels at a sample of S: what lies in front
+// (aR, aG, aB; transmittance T) over the film's opaque colour (hR..hA:
+// overOpaque), with several samples added to their sum (sR..sA) and
+// averaged; the value (fR..fA) is the film's at the last sample.
+RAST_CPU_CLONES void filmBlockWide(const float* __restrict__ aR, const float* __restrict__ aG,
+                                   const float* __restrict__ aB, const float* __restrict__ T,
+                                   const float* __restrict__ hR, const float* __restrict__ hG,
+                                   const float* __restrict__ hB, const float* __restrict__ hA, float* __restrict__ sR,
+                                   float* __restrict__ sG, float* __restrict__ sB, float* __restrict__ sA, const int S,
+                                   float* __restrict__ fR, float* __restrict__ fG, float* __restrict__ fB,
+                                   float* __restrict__ fA) {
+  if (S == 1) {
+    for (int q = 0; q < 64; ++q) {
+      fR[q] = aR[q] + T[q] * hR[q];
+      fG[q] = aG[q] + T[q] * hG[q];
+      fB[q] = aB[q] + T[q] * hB[q];
+      fA[q] = 1.0f - T[q] * (1.0f - hA[q]);
+    }
+    return;
+  }
+  const float inv = 1.0f / float(S);
+  for (int q = 0; q < 64; ++q) {
+    sR[q] = sR[q] + (aR[q] + T[q] * hR[q]);
+    sG[q] = sG[q] + (aG[q] + T[q] * hG[q]);
+    sB[q] = sB[q] + (aB[q] + T[q] * hB[q]);
+    sA[q] = sA[q] + (1.0f - T[q] * (1.0f - hA[q]));
+    fR[q] = sR[q] * inv;
+    fG[q] = sG[q] * inv;
+    fB[q] = sB[q] * inv;
+    fA[q] = sA[q] * inv;
+  }
+}
+
+// Whether raster triangles s and t (counter-clockwise, finishTriangle) share
+// an edge, a to b in one and b to a in the other: their interiors then lie
+// on either side of it, and on it the top-left rule gives a sample to one of
+// them (the two edge functions are each other's negation, and their biases
+// differ), so no sample has a fragment of both: a quad's two halves.
+KOKKOS_INLINE_FUNCTION bool edgeNeighbours(const RasterTri& s, const RasterTri& t) {
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = i == 2 ? 0 : i + 1;
+    for (int k = 0; k < 3; ++k) {
+      const int k1 = k == 2 ? 0 : k + 1;
+      if (s.x[i] == t.x[k1] && s.y[i] == t.y[k1] && s.x[i1] == t.x[k] && s.y[i1] == t.y[k]) return true;
+    }
+  }
+  return false;
+}
+
+// Whether the triangle of edges k takes in the sample of all 64 pixels: an
+// edge function is linear, so its least value over them is at a corner pixel
+// (the same sums as blockFragmentsWide's, exact integers in double).
+KOKKOS_INLINE_FUNCTION bool blockCovered(const BlockEdges& k) {
+  bool in = true;
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 4; ++c) {
+      const double x = (c & 1) ? 7.0 : 0.0, y = (c & 2) ? 7.0 : 0.0;
+      in = in & (k.e[i] + k.a[i] * x + k.b[i] * y + k.bias[i] > 0.0);
+    }
+  return in;
+}
+// Whether a triangle's depth at every sample of the block, within its
+// blockDepthRange [lo, hi] and above 0 (not -0, whose bits fail LESS), lies
+// in front of the nearest opaque depth (bits) nearest: then every covered
+// sample passes blockFragmentsWide's LESS.
+KOKKOS_INLINE_FUNCTION bool blockInFront(float lo, float hi, uint32_t nearest) {
+  return lo > 0.0f && hi == hi && floatBits(hi) < nearest;
+}
+
+// "over" for a block's pixels at once, a pixel whose colour's alpha cA[q] is
+// above 0 composited (the others, alpha 0 or NaN or not a fragment,
+// unchanged). Plain loops, also built for AVX-512 and AVX2.
 RAST_CPU_CLONES void overBlockWide(float* __restrict__ aR, float* __restrict__ aG, float* __restrict__ aB,
                                    float* __restrict__ T, const float* __restrict__ cR, const float* __restrict__ cG,
                                    const float* __restrict__ cB, const float* __restrict__ cA) {
-  for (int q = 0; q < 64; ++q) {
-    const float a = cA[q], t = T[q], tw = t * a;
-    const bool f = a > 0.0f;
-    aR[q] = f ? aR[q] + cR[q] * tw : aR[q];
-    aG[q] = f ? aG[q] + cG[q] * tw : aG[q];
-    aB[q] = f ? aB[q] + cB[q] * tw : aB[q];
-    T[q] = f ? t * (1.0f - a) : t;
-  }
+  for (int q = 0; q < 64; ++q) overPixel(q, cA[q] > 0.0f, cR[q], cG[q], cB[q], cA[q], aR, aG, aB, T);
 }
 
 // A triangle of constant colour under Lambert's headlight (Peel::litSetup:
 // span constants k, base colour, alpha above 0) lit at the block's 64 pixels
 // at once (X, Y: theirs) by the span shader's lane loop, and composited
-// where pass[q]: exact and sorted "over" (overBlockWide's arithmetic) where
-// the pixel is not yet opaque; weighted's sums (weightedTerms', the weights
-// FragShade::weightOf of depth z[q], near and far planes zn, zf, one array a
-// sum). A block that a layer covers has 64 fragments: this leaves out the
-// gathering of the fragments into lanes and the scatter of their colours
-// back (peel_block.h's walk takes it when half the block's pixels or more
-// have one). Each pixel's lighting is its own lane's: the same bits.
+// where pass[q]: exact and sorted "over" where the pixel is not yet opaque;
+// weighted's sums (the weights FragShade::weightOf of depth z[q], near and
+// far planes zn, zf, one array a sum). A block that a layer covers has 64
+// fragments: this leaves out the gathering of the fragments into lanes and
+// the scatter of their colours back (peel_block.h's walk takes it when half
+// the block's pixels or more have one). Each pixel's lighting is its own
+// lane's: the same bits.
 RAST_CPU_CLONES void litOverBlockWide(const shading::SpanConsts& k, const int32_t* __restrict__ X,
                                       const int32_t* __restrict__ Y, const int32_t* __restrict__ pass,
                                       const float4 base, const float alpha, float* __restrict__ aR,
@@ -92,13 +193,9 @@ RAST_CPU_CLONES void litOverBlockWide(const shading::SpanConsts& k, const int32_
   alignas(64) float b0[64], b1[64], b2[64], nx[64], ny[64], nz[64], diffuse[64];
   shading::spanLightingLanes(k, 64, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
   for (int q = 0; q < 64; ++q) {
-    const float d = diffuse[q], t = T[q], tw = t * alpha;
-    const bool f = (pass[q] != 0) & (t > 0.0f);
-    const float r = base.x * d + 0.0f, g = base.y * d + 0.0f, b = base.z * d + 0.0f;  // Peel::litLanesAt's colour
-    aR[q] = f ? aR[q] + r * tw : aR[q];
-    aG[q] = f ? aG[q] + g * tw : aG[q];
-    aB[q] = f ? aB[q] + b * tw : aB[q];
-    T[q] = f ? t * (1.0f - alpha) : t;
+    const float d = diffuse[q];  // Peel::litLanesAt's colour
+    overPixel(q, (pass[q] != 0) & (T[q] > 0.0f), base.x * d + 0.0f, base.y * d + 0.0f, base.z * d + 0.0f, alpha, aR,
+              aG, aB, T);
   }
 }
 RAST_CPU_CLONES void litWeightedBlockWide(const shading::SpanConsts& k, const int32_t* __restrict__ X,
@@ -110,15 +207,23 @@ RAST_CPU_CLONES void litWeightedBlockWide(const shading::SpanConsts& k, const in
   alignas(64) float b0[64], b1[64], b2[64], nx[64], ny[64], nz[64], diffuse[64];
   shading::spanLightingLanes(k, 64, X, Y, b0, b1, b2, nx, ny, nz, diffuse);
   for (int q = 0; q < 64; ++q) {
-    const float d = diffuse[q], w = FragShade::weightOf(z[q], zn, zf);
-    const bool f = pass[q] != 0;
-    const float r = base.x * d + 0.0f, g = base.y * d + 0.0f, b = base.z * d + 0.0f;
-    wR[q] = f ? wR[q] + r * alpha * w : wR[q];
-    wG[q] = f ? wG[q] + g * alpha * w : wG[q];
-    wB[q] = f ? wB[q] + b * alpha * w : wB[q];
-    wA[q] = f ? wA[q] + alpha * w : wA[q];
-    reveal[q] = f ? reveal[q] * (1.0f - alpha) : reveal[q];
+    const float d = diffuse[q];
+    weightedPixel(q, pass[q] != 0, base.x * d + 0.0f, base.y * d + 0.0f, base.z * d + 0.0f, alpha,
+                  FragShade::weightOf(z[q], zn, zf), wR, wG, wB, wA, reveal);
   }
+}
+// A triangle whose every fragment has colour c (FragShade::constantColour;
+// alpha c.w above 0) composited where pass[q], as above: no shading at all.
+RAST_CPU_CLONES void constOverBlockWide(const int32_t* __restrict__ pass, const float4 c, float* __restrict__ aR,
+                                        float* __restrict__ aG, float* __restrict__ aB, float* __restrict__ T) {
+  for (int q = 0; q < 64; ++q) overPixel(q, (pass[q] != 0) & (T[q] > 0.0f), c.x, c.y, c.z, c.w, aR, aG, aB, T);
+}
+RAST_CPU_CLONES void constWeightedBlockWide(const int32_t* __restrict__ pass, const float* __restrict__ z,
+                                            const float zn, const float zf, const float4 c, float* __restrict__ wR,
+                                            float* __restrict__ wG, float* __restrict__ wB, float* __restrict__ wA,
+                                            float* __restrict__ reveal) {
+  for (int q = 0; q < 64; ++q)
+    weightedPixel(q, pass[q] != 0, c.x, c.y, c.z, c.w, FragShade::weightOf(z[q], zn, zf), wR, wG, wB, wA, reveal);
 }
 
 // A block's film pixels encoded as sRGB bytes with opaque alpha
@@ -153,11 +258,12 @@ struct PeelBlocks {
     typename P::PeelCache cache;
     for (int64_t block = run * kRun; block < (run + 1) * kRun && block < blocks; ++block) {
       uint32_t ord[kBlockOrderMax], idx[kBlockOrderMax];
+      float lo[kBlockOrderMax], hi[kBlockOrderMax];  // exact's depth ranges
       uint32_t n = 0;
-      if (rowsOnly || !order(block, idx, ord, n))
+      if (rowsOnly || !order(block, idx, ord, n, lo, hi))
         peel(block, frags);
       else
-        walk(block, idx, ord, n, cache, frags);
+        walk(block, idx, ord, n, lo, hi, cache, frags);
     }
   }
 
@@ -165,8 +271,8 @@ struct PeelBlocks {
   // sample (ord: places in idx, first composited first); false where there
   // is none, or the list is empty, too long or not read (the frame is drawn
   // again with more room).
-  bool order(const int64_t block, uint32_t (&idx)[kBlockOrderMax], uint32_t (&ord)[kBlockOrderMax],
-             uint32_t& n) const {
+  bool order(const int64_t block, uint32_t (&idx)[kBlockOrderMax], uint32_t (&ord)[kBlockOrderMax], uint32_t& n,
+             float (&lo)[kBlockOrderMax], float (&hi)[kBlockOrderMax]) const {
     const P& p = peel;
     if (!(p.totals(kBlendListed) <= p.tileCapacity)) return false;
     n = p.tileCount(block);
@@ -174,7 +280,6 @@ struct PeelBlocks {
     const uint32_t begin = p.tileEnd(block) - n;
     const int32_t x0 = int32_t(block % p.blocksX) << kItemShift, y0 = int32_t(block / p.blocksX) << kItemShift;
     uint64_t key[kBlockOrderMax];
-    float lo[kBlockOrderMax], hi[kBlockOrderMax];
     for (uint32_t j = 0; j < n; ++j) {
       const uint32_t i = p.tileTris(begin + j);
       idx[j] = i;
@@ -193,15 +298,30 @@ struct PeelBlocks {
       for (; k > 0 && key[ord[k - 1]] > key[j]; --k) ord[k] = ord[k - 1];
       ord[k] = j;
     }
-    if (!p.weighted && !p.sorted)
-      for (uint32_t t = 0; t + 1 < n; ++t)
-        if (!(hi[ord[t]] < lo[ord[t + 1]])) return false;  // ranges overlap (or NaN): peeled
+    if (p.weighted || p.sorted) return true;
+    // exact: each triangle's range before the next's, but for a quad's two
+    // halves (edgeNeighbours: never both at one sample), whose ranges
+    // overlap and which then take their union's place.
+    float before = 0.0f;
+    for (uint32_t t = 0; t < n;) {
+      float last = hi[ord[t]];
+      uint32_t u = t + 1;
+      if (u < n && !(last < lo[ord[u]]) &&
+          edgeNeighbours(p.fs.sc.tris(idx[ord[t]]), p.fs.sc.tris(idx[ord[u]]))) {
+        last = hi[ord[u]] > last || hi[ord[u]] != hi[ord[u]] ? hi[ord[u]] : last;  // (NaN kept: fails below)
+        ++u;
+      }
+      if (t > 0 && !(before < lo[ord[t]])) return false;  // ranges overlap (or NaN): peeled
+      before = last;
+      t = u;
+    }
     return true;
   }
 
   // The block's samples, each triangle of the list in order over its pixels.
   void walk(const int64_t block, const uint32_t (&idx)[kBlockOrderMax], const uint32_t (&ord)[kBlockOrderMax],
-            const uint32_t n, typename P::PeelCache& cache, uint64_t& frags) const {
+            const uint32_t n, const float (&lo)[kBlockOrderMax], const float (&hi)[kBlockOrderMax],
+            typename P::PeelCache& cache, uint64_t& frags) const {
     const P& p = peel;
     const FragShade& fs = p.fs;
     const bool weighted = p.weighted != 0;
@@ -210,10 +330,10 @@ struct PeelBlocks {
     const int32_t rows = p.height - y0 < kSide ? p.height - y0 : kSide;
     const int S = fs.sp.count;
     const float zn = fs.sh.p.frame(0).camera.znear, zf = fs.sh.p.frame(0).camera.zfar;  // weighted's weights
-    float4 sum[kPixels];
+    alignas(64) float sR[kPixels], sG[kPixels], sB[kPixels], sA[kPixels];  // several samples' sum
     alignas(64) int32_t Xb[kPixels], Yb[kPixels];  // the block's pixels
     for (int q = 0; q < kPixels; ++q) {
-      sum[q] = float4{0.0f, 0.0f, 0.0f, 0.0f};
+      sR[q] = sG[q] = sB[q] = sA[q] = 0.0f;
       Xb[q] = x0 + (q & (kSide - 1));
       Yb[q] = y0 + (q >> kItemShift);
     }
@@ -225,16 +345,24 @@ struct PeelBlocks {
       alignas(64) float wR[kPixels], wG[kPixels], wB[kPixels], wA[kPixels], reveal[kPixels];
       alignas(64) uint32_t cnt[kPixels], opq[kPixels];
       for (int q = 0; q < kPixels; ++q) {
-        aR[q] = aG[q] = aB[q] = 0.0f;
-        T[q] = 1.0f;
-        wR[q] = wG[q] = wB[q] = wA[q] = 0.0f;
-        reveal[q] = 1.0f;
         cnt[q] = 0;
         opq[q] = 0;  // no pixel: no fragment
       }
+      if (weighted)
+        for (int q = 0; q < kPixels; ++q) {
+          wR[q] = wG[q] = wB[q] = wA[q] = 0.0f;
+          reveal[q] = 1.0f;
+        }
+      else
+        for (int q = 0; q < kPixels; ++q) {
+          aR[q] = aG[q] = aB[q] = 0.0f;
+          T[q] = 1.0f;
+        }
       for (int32_t yy = 0; yy < rows; ++yy)
         for (int32_t xx = 0; xx < cols; ++xx)
           opq[yy * kSide + xx] = p.opaque((int64_t(y0 + yy) * p.width + x0 + xx) * S + s);
+      uint32_t nearestOpaque = opq[0];  // 0 where a pixel lies outside the frame
+      for (int q = 1; q < kPixels; ++q) nearestOpaque = opq[q] < nearestOpaque ? opq[q] : nearestOpaque;
       for (uint32_t t = 0; t < n; ++t) {
         const uint32_t i = idx[ord[t]];
         const RasterTri& tri = fs.sc.tris(i);
@@ -253,7 +381,26 @@ struct PeelBlocks {
         be.ia = dz.ia;
         alignas(64) int32_t pass[kPixels];
         alignas(64) float z[kPixels];
-        blockFragmentsWide(be, opq, cnt, pass, z);
+        bool covered = !weighted && blockCovered(be);
+        if (covered) {
+          float l, h;
+          if (p.sorted) {
+            blockDepthRange(e, dz, x0, y0, l, h);
+          } else {  // exact's, from order()
+            l = lo[ord[t]];
+            h = hi[ord[t]];
+          }
+          covered = blockInFront(l, h, nearestOpaque);
+        }
+        if (covered) {
+          // Every pixel a fragment (exact and sorted read no fragment's depth).
+          for (int q = 0; q < kPixels; ++q) {
+            pass[q] = 1;
+            cnt[q] += 1u;
+          }
+        } else {
+          blockFragmentsWide(be, opq, cnt, pass, z);
+        }
         // The fragments to shade: of pixels not yet opaque (weighted: all).
         int m = 0;
         for (int q = 0; q < kPixels; ++q) m += pass[q] & (weighted || T[q] > 0.0f ? 1 : 0);
@@ -269,6 +416,17 @@ struct PeelBlocks {
               litWeightedBlockWide(c, Xb, Yb, pass, z, zn, zf, base, alpha, wR, wG, wB, wA, reveal);
             else
               litOverBlockWide(c, Xb, Yb, pass, base, alpha, aR, aG, aB, T);
+            continue;
+          }
+        }
+        if constexpr (P::kConstant) {  // the glTF shading's unlit layers: one colour, nothing shaded
+          float4 col;
+          if (p.constantOf(i, cache, col)) {
+            if (!(col.w > 0.0f)) continue;  // no fragment
+            if (weighted)
+              constWeightedBlockWide(pass, z, zn, zf, col, wR, wG, wB, wA, reveal);
+            else
+              constOverBlockWide(pass, col, aR, aG, aB, T);
             continue;
           }
         }
@@ -290,6 +448,7 @@ struct PeelBlocks {
           const int c = cache.slot(i);
           if (cache.a[c].index != i) fs.sc.prepare(i, cache.a[c]);
           fs.template use<kFam>(i, cache.tf[c], cache.pt[c]);
+          cache.evS[c] = -1;  // its stepped edge values (FragCacheOf::at, the rows) are not this triangle's
           for (int k = 0; k < m; ++k)
             col[k] = fs.template shadeAt<kFam, kFeat>(X[k], Y[k], s, e.sample(0, X[k], Y[k], ox, oy),
                                                       e.sample(1, X[k], Y[k], ox, oy), e.sample(2, X[k], Y[k], ox, oy),
@@ -323,23 +482,39 @@ struct PeelBlocks {
         }
         overBlockWide(aR, aG, aB, T, cR, cG, cB, cA);  // alpha 0 (or NaN): no fragment
       }
-      // The film (Peel::filmValue); at the last sample, where the resolve
-      // encodes, the block's bytes in one loop.
+      // The statistics (Peel::count's, a block at once).
+      uint64_t blockFrags = 0;
+      uint32_t deepest = 0;
+      for (int q = 0; q < kPixels; ++q) {  // (0 outside the frame)
+        blockFrags += cnt[q];
+        deepest = cnt[q] > deepest ? cnt[q] : deepest;
+      }
+      p.count(blockFrags, deepest, frags);
+      // The film (Peel::filmValue's arithmetic: filmBlockWide); at the last
+      // sample, where the resolve encodes, the block's bytes in one loop.
+      if (weighted) weightedFrontBlockWide(wR, wG, wB, wA, reveal, aR, aG, aB, T);
+      alignas(64) float hR[kPixels], hG[kPixels], hB[kPixels], hA[kPixels];
       alignas(64) float fR[kPixels], fG[kPixels], fB[kPixels], fA[kPixels];
-      for (int q = 0; q < kPixels; ++q) fR[q] = fG[q] = fB[q] = fA[q] = 0.0f;  // pixels outside the frame
-      for (int32_t yy = 0; yy < rows; ++yy)
+      if (rows < kSide || cols < kSide)
+        for (int q = 0; q < kPixels; ++q) hR[q] = hG[q] = hB[q] = hA[q] = 0.0f;  // pixels outside the frame
+      for (int32_t yy = 0; yy < rows; ++yy) {
+        const float4* h = &p.hdr(int64_t(y0 + yy) * p.width + x0);
         for (int32_t xx = 0; xx < cols; ++xx) {
           const int q = yy * kSide + xx;
-          p.count(cnt[q], frags);
-          float3 acc{aR[q], aG[q], aB[q]};
-          float Tq = T[q];
-          if (weighted) weightedFront(float4{wR[q], wG[q], wB[q], wA[q]}, reveal[q], acc, Tq);
-          float4 c;
-          p.filmValue(int64_t(y0 + yy) * p.width + x0 + xx, s, S, acc, Tq, sum[q], c);
-          fR[q] = c.x;
-          fG[q] = c.y;
-          fB[q] = c.z;
-          fA[q] = c.w;
+          hR[q] = h[xx].x;
+          hG[q] = h[xx].y;
+          hB[q] = h[xx].z;
+          hA[q] = h[xx].w;
+        }
+      }
+      filmBlockWide(aR, aG, aB, T, hR, hG, hB, hA, sR, sG, sB, sA, S, fR, fG, fB, fA);
+      if (s + 1 == S)  // (Peel::filmValue writes the film at the last sample)
+        for (int32_t yy = 0; yy < rows; ++yy) {
+          float4* h = &p.hdr(int64_t(y0 + yy) * p.width + x0);
+          for (int32_t xx = 0; xx < cols; ++xx) {
+            const int q = yy * kSide + xx;
+            h[xx] = float4{fR[q], fG[q], fB[q], fA[q]};
+          }
         }
       if (s + 1 == S && p.encode) {
         alignas(64) uint32_t bytes[kPixels];

@@ -391,20 +391,25 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
   // over the block do not overlap; weighted in raster-index order) it walks
   // each over the block's pixels in that order (peel_block.h), else it peels
   // the block's rows (peel.h), which TestHooks::peelRows forces everywhere.
-  // Separate layers back to front and front to back, intersecting ones (the
-  // blocks along the intersections peeled), coplanar ones (equal ranges:
-  // peeled), 64 layers (the diagonals' lists of 128 longer than a block walks
-  // in order), opaque layers (a pixel stops at the first), a vertex-coloured
-  // quad; Lambert (lit together by the span shader's vector loop), Blinn-Phong,
-  // the glTF shading; one and four samples; the frame's size not a multiple of
-  // 8. GPUs ignore the hook: there both films are the team form's.
+  // Separate layers back to front and front to back (a quad's two halves,
+  // whose ranges overlap along its diagonal, walked as one), intersecting
+  // ones (the blocks along the intersections peeled; 40 of them: 80
+  // triangles, more than a thread's lookups hold, blocks walked and peeled
+  // by one thread), coplanar ones (equal ranges: peeled), 64 layers (the
+  // diagonals' lists of 128 longer than a block walks in order), opaque
+  // layers (a pixel stops at the first), a vertex-coloured quad; Lambert (lit
+  // together by the span shader's vector loop), Blinn-Phong, the glTF shading
+  // (the layers unlit: one colour a triangle, composited without shading);
+  // one and four samples; the frame's size not a multiple of 8. GPUs ignore
+  // the hook: there both films are the team form's.
   struct Rows {
     Rows() { testHooks().peelRows = true; }
     ~Rows() { testHooks().peelRows = false; }
   };
   sameUnderHook<Rows>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
-                       "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=6&mixed=1&equal=1",
-                       "builtin:layers?n=64&alpha=0.1", "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"},
+                       "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
+                       "builtin:layers?n=6&mixed=1&equal=1", "builtin:layers?n=64&alpha=0.1",
+                       "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"},
                       small(93, 53));
 }
 
