@@ -201,10 +201,7 @@ struct Peel {
   // alpha); false where its colour varies (textures, vertex colours).
   KOKKOS_INLINE_FUNCTION bool litSetup(const uint32_t tri, const int s, PeelCache& cache, shading::SpanConsts& c,
                                        float4& base, float& alpha) const {
-    const int e = cache.slot(tri);
-    if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
-    fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
-    cache.evS[e] = -1;  // its stepped edge values (FragCacheOf::at) are not this triangle's
+    const int e = prepared(tri, cache);
     const AlphaTri& a = cache.a[e];
     const TriFrag& f = cache.tf[e];
     if (a.textured || fs.sc.hasColor || f.textured) return false;
@@ -215,16 +212,23 @@ struct Peel {
                      1.0f - fs.sh.p.ambient);
     return true;
   }
+  // Triangle tri's cache entry with its lookups prepared, for a caller that
+  // does not step its edge values (FragCacheOf::at's, which it forgets: they
+  // may be another triangle's, whose entry this was).
+  KOKKOS_INLINE_FUNCTION int prepared(const uint32_t tri, PeelCache& cache) const {
+    const int e = cache.slot(tri);
+    if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
+    fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
+    cache.evS[e] = -1;
+    return e;
+  }
   // A CPU, the glTF shading: triangles whose fragments all have one colour
   // (FragShade::constantColour) are composited without shading (peel_block.h).
   static constexpr bool kConstant = !kOnDevice && kFam == kFragPbr;
   // Triangle tri's constant colour and alpha (w), its lookups prepared in
   // the cache; false where they vary.
   KOKKOS_INLINE_FUNCTION bool constantOf(const uint32_t tri, PeelCache& cache, float4& c) const {
-    const int e = cache.slot(tri);
-    if (cache.a[e].index != tri) fs.sc.prepare(tri, cache.a[e]);
-    fs.template use<kFam>(tri, cache.tf[e], cache.pt[e]);
-    cache.evS[e] = -1;  // its stepped edge values (FragCacheOf::at) are not this triangle's
+    const int e = prepared(tri, cache);
     return fs.template constantColour<kFam, kFeat>(cache.a[e], cache.pt[e], c);
   }
   KOKKOS_INLINE_FUNCTION void compositeLanes(const int32_t x0, const int32_t Y, const int s, const int32_t run,

@@ -445,10 +445,7 @@ struct PeelBlocks {
         bool lit = false;
         if constexpr (P::kLanes) lit = p.lambertLanes && m > 1 && p.litLanesAt(i, s, X, Y, m, cache, col);
         if (!lit) {
-          const int c = cache.slot(i);
-          if (cache.a[c].index != i) fs.sc.prepare(i, cache.a[c]);
-          fs.template use<kFam>(i, cache.tf[c], cache.pt[c]);
-          cache.evS[c] = -1;  // its stepped edge values (FragCacheOf::at, the rows) are not this triangle's
+          const int c = p.prepared(i, cache);
           for (int k = 0; k < m; ++k)
             col[k] = fs.template shadeAt<kFam, kFeat>(X[k], Y[k], s, e.sample(0, X[k], Y[k], ox, oy),
                                                       e.sample(1, X[k], Y[k], ox, oy), e.sample(2, X[k], Y[k], ox, oy),
