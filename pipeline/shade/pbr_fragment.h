@@ -385,8 +385,9 @@ struct ShadePbr {
   // The normal and position are interpolated before the shading where the
   // normals or geometry outputs read them (n0, p0), else only where the
   // material is lit (shadePbrWith asks past its unlit return): an unlit
-  // material's pixel is then its base colour without a square root, the same
-  // bits either way.
+  // material's pixel is then its base colour without a square root. The
+  // same bits either way on CPUs; a GPU build's contraction of multiplies
+  // and adds follows the code's shape, so its lit pixels may round otherwise.
   KOKKOS_FORCEINLINE_FUNCTION float4 fragment(const PbrFrag& q, int32_t X, int32_t Y, float3& n0, float3* p0) const {
     const TriFrag& f = q.f;
     if (f.index & kLineFlag) return k.lineShade.color(f.index & ~kLineFlag);
