@@ -2,8 +2,9 @@
 // "On a CPU: a block's triangles in order"). Where the triangles of a
 // block's list keep one order at every sample of the block
 //   sorted:   always (a triangle's key is its draw's);
-//   exact:    where their depth ranges over the block do not overlap
-//             (blockDepthRange, widened past the depth's rounding);
+//   exact:    where their depth ranges do not overlap: the whole
+//             triangles' (depthBounds), else over the block
+//             (blockDepthRange), both widened past the depth's rounding;
 //   weighted: the list's raster-index order, in which its sums add,
 // each triangle in turn is walked over the block's 64 pixels and its
 // fragments in front of the opaque depth are shaded together (Lambert under
@@ -11,7 +12,10 @@
 // triangle and sample; where they are half the block or more, over all 64
 // pixels, masked, with no gathering into lanes) and composited as found: no keys, no insertion, no
 // second walk, and a triangle's set-up once for the block instead of once a
-// row and pass. Other blocks (overlapping ranges, lists longer than
+// row and pass. Under the glTF shading, where every triangle of the list
+// misses the block or covers it in front of the opaque depth with one
+// colour (unlit layers), the block's pixels composite the same colours: once
+// for all 64 (uniform). Other blocks (overlapping ranges, lists longer than
 // kBlockOrderMax) take peel.h's rows. The same fragments are composited in
 // the same order with the same arithmetic as there: the same bits
 // (tests/pipeline/test_transparency.cpp, TestHooks::peelRows). GPUs take
@@ -159,6 +163,21 @@ KOKKOS_INLINE_FUNCTION bool blockCovered(const BlockEdges& k) {
     }
   return in;
 }
+// Whether no pixel of the block has its sample inside the triangle: some
+// edge is not positive (with its bias) at the four corner pixels, so not at
+// any pixel between (rectOutside's test at one sample). The other half of a
+// quad that covers the block, mostly.
+KOKKOS_INLINE_FUNCTION bool blockOutside(const BlockEdges& k) {
+  for (int i = 0; i < 3; ++i) {
+    bool out = true;
+    for (int c = 0; c < 4; ++c) {
+      const double x = (c & 1) ? 7.0 : 0.0, y = (c & 2) ? 7.0 : 0.0;
+      out = out & !(k.e[i] + k.a[i] * x + k.b[i] * y + k.bias[i] > 0.0);
+    }
+    if (out) return true;
+  }
+  return false;
+}
 // Whether a triangle's depth at every sample of the block, within its
 // blockDepthRange [lo, hi] and above 0 (not -0, whose bits fail LESS), lies
 // in front of the nearest opaque depth (bits) nearest: then every covered
@@ -288,20 +307,44 @@ struct PeelBlocks {
       } else if (p.sorted) {
         key[j] = p.sortedKeyOf(i);  // unique: it ends in the raster index
       } else {
-        const RasterTri& t = p.fs.sc.tris(i);
-        blockDepthRange(Edges(t), DepthTerms(t), x0, y0, lo[j], hi[j]);
+        // exact: first the triangles' whole depth ranges (depthBounds),
+        // which cost three comparisons; where they do not order the list,
+        // their ranges over the block (below).
+        const DepthBounds z = depthBounds(p.fs.sc.tris(i));
+        lo[j] = z.lo;
+        hi[j] = z.hi;
         key[j] = uint64_t(orderBits(lo[j])) << 32 | j;
       }
     }
-    for (uint32_t j = 0; j < n; ++j) {  // insertion sort: lists are short and mostly in order
+    sortKeys(key, n, ord);
+    if (p.weighted || p.sorted || inOrder(idx, ord, n, lo, hi)) return true;
+    for (uint32_t j = 0; j < n; ++j) {
+      const RasterTri& t = p.fs.sc.tris(idx[j]);
+      blockDepthRange(Edges(t), DepthTerms(t), x0, y0, lo[j], hi[j]);
+      key[j] = uint64_t(orderBits(lo[j])) << 32 | j;
+    }
+    sortKeys(key, n, ord);
+    return inOrder(idx, ord, n, lo, hi);
+  }
+  // ord: the places of n keys in ascending order (insertion sort: lists are
+  // short and mostly in order).
+  KOKKOS_INLINE_FUNCTION static void sortKeys(const uint64_t (&key)[kBlockOrderMax], const uint32_t n,
+                                              uint32_t (&ord)[kBlockOrderMax]) {
+    for (uint32_t j = 0; j < n; ++j) {
       uint32_t k = j;
       for (; k > 0 && key[ord[k - 1]] > key[j]; --k) ord[k] = ord[k - 1];
       ord[k] = j;
     }
-    if (p.weighted || p.sorted) return true;
-    // exact: each triangle's range before the next's, but for a quad's two
-    // halves (edgeNeighbours: never both at one sample), whose ranges
-    // overlap and which then take their union's place.
+  }
+  // exact: whether the depth ranges [lo, hi] in the order ord keep one
+  // order at every sample: each triangle's range before the next's, but for
+  // a quad's two halves (edgeNeighbours: never both at one sample), whose
+  // ranges overlap and which then take their union's place. The ranges are
+  // the whole triangles' or the block's: either bounds every depth the
+  // block's samples take, so an order they give is the same.
+  bool inOrder(const uint32_t (&idx)[kBlockOrderMax], const uint32_t (&ord)[kBlockOrderMax], const uint32_t n,
+               const float (&lo)[kBlockOrderMax], const float (&hi)[kBlockOrderMax]) const {
+    const P& p = peel;
     float before = 0.0f;
     for (uint32_t t = 0; t < n;) {
       float last = hi[ord[t]];
@@ -318,9 +361,84 @@ struct PeelBlocks {
     return true;
   }
 
+  // blockInFront for the triangle of list place j: exact's range from
+  // order() (the whole triangle's or the block's), else, and for sorted,
+  // its range over the block.
+  bool inFront(const Edges& e, const DepthTerms& dz, const int32_t x0, const int32_t y0,
+               const float (&lo)[kBlockOrderMax], const float (&hi)[kBlockOrderMax], const uint32_t j,
+               const uint32_t nearestOpaque) const {
+    if (!peel.sorted && blockInFront(lo[j], hi[j], nearestOpaque)) return true;
+    float l, h;
+    blockDepthRange(e, dz, x0, y0, l, h);
+    return blockInFront(l, h, nearestOpaque);
+  }
+
+  // One triangle's BlockEdges at sample (ox, oy) over the block at (x0, y0).
+  KOKKOS_INLINE_FUNCTION static BlockEdges blockEdges(const Edges& e, const DepthTerms& dz, const int32_t x0,
+                                                      const int32_t y0, const int32_t ox, const int32_t oy) {
+    BlockEdges be;
+    for (int k = 0; k < 3; ++k) {
+      be.e[k] = double(e.sample(k, x0, y0, ox, oy));
+      be.a[k] = double(e.A[k]);
+      be.b[k] = double(e.B[k]);
+      be.bias[k] = double(e.bias[k]);
+    }
+    be.z0 = dz.z0;
+    be.d1 = dz.d1;
+    be.d2 = dz.d2;
+    be.ia = dz.ia;
+    return be;
+  }
+
+  // exact and sorted under the glTF shading, sample s of a block in order:
+  // where each triangle of the list either misses the block (blockOutside)
+  // or covers it (blockCovered) in front of its nearest opaque depth
+  // (blockInFront) with one colour (Peel::constantOf: unlit, untextured),
+  // every pixel composites the same fragments in the same order from
+  // acc = 0, T = 1. Their "over" is then computed once, with walk()'s
+  // arithmetic (constOverBlockWide's, a pixel), and written to the block's
+  // pixels (aR, aG, aB, T, and the counts cnt); false, nothing written,
+  // where the block is not so.
+  bool uniform(const int32_t x0, const int32_t y0, const uint32_t (&idx)[kBlockOrderMax],
+               const uint32_t (&ord)[kBlockOrderMax], const uint32_t n, const float (&lo)[kBlockOrderMax],
+               const float (&hi)[kBlockOrderMax], const int s, const uint32_t nearestOpaque,
+               typename P::PeelCache& cache, float* aR, float* aG, float* aB, float* T, uint32_t* cnt) const {
+    const P& p = peel;
+    const FragShade& fs = p.fs;
+    float4 col[kBlockOrderMax];
+    bool in[kBlockOrderMax];
+    for (uint32_t t = 0; t < n; ++t) {
+      const uint32_t i = idx[ord[t]];
+      const RasterTri& tri = fs.sc.tris(i);
+      const Edges e(tri);
+      const DepthTerms dz(tri);
+      const BlockEdges be = blockEdges(e, dz, x0, y0, fs.sp.ox[s], fs.sp.oy[s]);
+      in[t] = !blockOutside(be);
+      if (!in[t]) continue;
+      if (!blockCovered(be) || !inFront(e, dz, x0, y0, lo, hi, ord[t], nearestOpaque) ||
+          !p.constantOf(i, cache, col[t]))
+        return false;
+    }
+    alignas(64) float r[1] = {0.0f}, g[1] = {0.0f}, b[1] = {0.0f}, tr[1] = {1.0f};
+    uint32_t c = 0;
+    for (uint32_t t = 0; t < n; ++t) {
+      if (!in[t]) continue;
+      ++c;
+      overPixel(0, (tr[0] > 0.0f) & (col[t].w > 0.0f), col[t].x, col[t].y, col[t].z, col[t].w, r, g, b, tr);
+    }
+    for (int q = 0; q < kPixels; ++q) {
+      aR[q] = r[0];
+      aG[q] = g[0];
+      aB[q] = b[0];
+      T[q] = tr[0];
+      cnt[q] = c;
+    }
+    return true;
+  }
+
   // The block's samples, each triangle of the list in order over its pixels.
   void walk(const int64_t block, const uint32_t (&idx)[kBlockOrderMax], const uint32_t (&ord)[kBlockOrderMax],
-            const uint32_t n, const float (&lo)[kBlockOrderMax], const float (&hi)[kBlockOrderMax],
+            const uint32_t listed, const float (&lo)[kBlockOrderMax], const float (&hi)[kBlockOrderMax],
             typename P::PeelCache& cache, uint64_t& frags) const {
     const P& p = peel;
     const FragShade& fs = p.fs;
@@ -339,6 +457,7 @@ struct PeelBlocks {
     }
     for (int s = 0; s < S; ++s) {
       const int32_t ox = fs.sp.ox[s], oy = fs.sp.oy[s];
+      uint32_t n = listed;  // 0 where uniform() composited the block
       // What lies in front, a channel an array (overBlockWide), and the
       // transmittance; weighted's sums.
       alignas(64) float aR[kPixels], aG[kPixels], aB[kPixels], T[kPixels];
@@ -363,35 +482,19 @@ struct PeelBlocks {
           opq[yy * kSide + xx] = p.opaque((int64_t(y0 + yy) * p.width + x0 + xx) * S + s);
       uint32_t nearestOpaque = opq[0];  // 0 where a pixel lies outside the frame
       for (int q = 1; q < kPixels; ++q) nearestOpaque = opq[q] < nearestOpaque ? opq[q] : nearestOpaque;
+      if constexpr (P::kConstant)
+        if (!weighted && uniform(x0, y0, idx, ord, n, lo, hi, s, nearestOpaque, cache, aR, aG, aB, T, cnt)) n = 0;
       for (uint32_t t = 0; t < n; ++t) {
         const uint32_t i = idx[ord[t]];
         const RasterTri& tri = fs.sc.tris(i);
         const Edges e(tri);
         const DepthTerms dz(tri);
-        BlockEdges be;
-        for (int k = 0; k < 3; ++k) {
-          be.e[k] = double(e.sample(k, x0, y0, ox, oy));
-          be.a[k] = double(e.A[k]);
-          be.b[k] = double(e.B[k]);
-          be.bias[k] = double(e.bias[k]);
-        }
-        be.z0 = dz.z0;
-        be.d1 = dz.d1;
-        be.d2 = dz.d2;
-        be.ia = dz.ia;
+        const BlockEdges be = blockEdges(e, dz, x0, y0, ox, oy);
+        if (blockOutside(be)) continue;  // no fragment in the block
         alignas(64) int32_t pass[kPixels];
         alignas(64) float z[kPixels];
         bool covered = !weighted && blockCovered(be);
-        if (covered) {
-          float l, h;
-          if (p.sorted) {
-            blockDepthRange(e, dz, x0, y0, l, h);
-          } else {  // exact's, from order()
-            l = lo[ord[t]];
-            h = hi[ord[t]];
-          }
-          covered = blockInFront(l, h, nearestOpaque);
-        }
+        if (covered) covered = inFront(e, dz, x0, y0, lo, hi, ord[t], nearestOpaque);
         if (covered) {
           // Every pixel a fragment (exact and sorted read no fragment's depth).
           for (int q = 0; q < kPixels; ++q) {

@@ -355,7 +355,8 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   // in team scratch (peel_team.h, PeelTeam); TestHooks::teamResolve runs
   // that form here. Separate lit layers, submitted back to front and front to
   // back (exact: the blocks whose triangles' depth ranges do not overlap are
-  // walked once in that order), intersecting ones (12: peeled keys from the
+  // walked once in that order; unlit ones too, which the glTF shading
+  // composites with their one colour), intersecting ones (12: peeled keys from the
   // list in scratch; 40: the lists along the quads' diagonals outgrow it and
   // take the plain walk), coplanar ones (ordered by raster index), a
   // vertex-coloured BLEND quad; one and four samples; exact, sorted and
@@ -366,6 +367,7 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
     ~Team() { testHooks().teamResolve = false; }
   };
   sameUnderHook<Team>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
+                       "builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&order=front",
                        "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
                        "builtin:layers?n=6&mixed=1&equal=1", "builtin:cutout?blend=1"},
                       small());
@@ -399,7 +401,8 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
   // diagonals' lists of 128 longer than a block walks in order), opaque
   // layers (a pixel stops at the first), a vertex-coloured quad; Lambert (lit
   // together by the span shader's vector loop), Blinn-Phong, the glTF shading
-  // (the layers unlit: one colour a triangle, composited without shading);
+  // (the layers unlit: one colour a triangle, composited without shading;
+  // where every layer covers or misses a block, once for its 64 pixels);
   // one and four samples; the frame's size not a multiple of 8. GPUs ignore
   // the hook: there both films are the team form's.
   struct Rows {
@@ -407,6 +410,7 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
     ~Rows() { testHooks().peelRows = false; }
   };
   sameUnderHook<Rows>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
+                       "builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&order=front",
                        "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
                        "builtin:layers?n=6&mixed=1&equal=1", "builtin:layers?n=64&alpha=0.1",
                        "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"},
