@@ -13,10 +13,10 @@
 // pixels, masked, with no gathering into lanes) and composited as found: no keys, no insertion, no
 // second walk, and a triangle's set-up once for the block instead of once a
 // row and pass. Under the glTF shading, where every triangle of the list
-// misses the block or covers it in front of the opaque depth with one
-// colour (unlit layers), the block's pixels composite the same colours: once
-// for all 64 (uniform). Other blocks (overlapping ranges, lists longer than
-// kBlockOrderMax) take peel.h's rows. The same fragments are composited in
+// covers the block in front of the opaque depth with one colour (unlit
+// layers; weighted: parallel to the image, one weight), the block's pixels
+// composite the same colours: once for all 64 (uniform). Other blocks
+// (overlapping ranges, lists longer than kBlockOrderMax) take peel.h's rows. The same fragments are composited in
 // the same order with the same arithmetic as there: the same bits
 // (tests/pipeline/test_transparency.cpp, TestHooks::peelRows). GPUs take
 // peel_team.h's team form, which walks in order the same way a pixel a thread.
@@ -162,21 +162,6 @@ KOKKOS_INLINE_FUNCTION bool blockCovered(const BlockEdges& k) {
       in = in & (k.e[i] + k.a[i] * x + k.b[i] * y + k.bias[i] > 0.0);
     }
   return in;
-}
-// Whether no pixel of the block has its sample inside the triangle: some
-// edge is not positive (with its bias) at the four corner pixels, so not at
-// any pixel between (rectOutside's test at one sample). The other half of a
-// quad that covers the block, mostly.
-KOKKOS_INLINE_FUNCTION bool blockOutside(const BlockEdges& k) {
-  for (int i = 0; i < 3; ++i) {
-    bool out = true;
-    for (int c = 0; c < 4; ++c) {
-      const double x = (c & 1) ? 7.0 : 0.0, y = (c & 2) ? 7.0 : 0.0;
-      out = out & !(k.e[i] + k.a[i] * x + k.b[i] * y + k.bias[i] > 0.0);
-    }
-    if (out) return true;
-  }
-  return false;
 }
 // Whether a triangle's depth at every sample of the block, within its
 // blockDepthRange [lo, hi] and above 0 (not -0, whose bits fail LESS), lies
@@ -390,49 +375,75 @@ struct PeelBlocks {
     return be;
   }
 
-  // exact and sorted under the glTF shading, sample s of a block in order:
-  // where each triangle of the list either misses the block (blockOutside)
-  // or covers it (blockCovered) in front of its nearest opaque depth
-  // (blockInFront) with one colour (Peel::constantOf: unlit, untextured),
+  // Under the glTF shading, sample s of a block in order: where each
+  // triangle of the list covers the block (blockCovered; the tile lists
+  // leave out the triangles that miss it) with one colour (Peel::constantOf:
+  // unlit, untextured)
+  //   exact and sorted: in front of its nearest opaque depth (inFront);
+  //   weighted: parallel to the image (one depth at every sample: the
+  //             weight's) in front of that depth,
   // every pixel composites the same fragments in the same order from
-  // acc = 0, T = 1. Their "over" is then computed once, with walk()'s
-  // arithmetic (constOverBlockWide's, a pixel), and written to the block's
-  // pixels (aR, aG, aB, T, and the counts cnt); false, nothing written,
-  // where the block is not so.
+  // acc = 0, T = 1 (weighted: from zero sums). Their "over" (weighted's
+  // sums) is then computed once, with walk()'s arithmetic (constOverBlockWide's
+  // and constWeightedBlockWide's, a pixel), and written to the block's pixels
+  // (aR, aG, aB, T; wR, wG, wB, wA, reveal; the counts cnt); false, nothing
+  // written, where the block is not so. zn, zf: the camera's near and far
+  // planes (weighted's weights).
+  struct Sums {
+    float *aR, *aG, *aB, *T, *wR, *wG, *wB, *wA, *reveal;
+  };
   bool uniform(const int32_t x0, const int32_t y0, const uint32_t (&idx)[kBlockOrderMax],
                const uint32_t (&ord)[kBlockOrderMax], const uint32_t n, const float (&lo)[kBlockOrderMax],
-               const float (&hi)[kBlockOrderMax], const int s, const uint32_t nearestOpaque,
-               typename P::PeelCache& cache, float* aR, float* aG, float* aB, float* T, uint32_t* cnt) const {
+               const float (&hi)[kBlockOrderMax], const int s, const uint32_t nearestOpaque, const float zn,
+               const float zf, typename P::PeelCache& cache, const Sums& out, uint32_t* cnt) const {
     const P& p = peel;
     const FragShade& fs = p.fs;
+    const bool weighted = p.weighted != 0;
     float4 col[kBlockOrderMax];
-    bool in[kBlockOrderMax];
+    float z[kBlockOrderMax];  // weighted: the triangle's one depth
     for (uint32_t t = 0; t < n; ++t) {
       const uint32_t i = idx[ord[t]];
       const RasterTri& tri = fs.sc.tris(i);
       const Edges e(tri);
       const DepthTerms dz(tri);
       const BlockEdges be = blockEdges(e, dz, x0, y0, fs.sp.ox[s], fs.sp.oy[s]);
-      in[t] = !blockOutside(be);
-      if (!in[t]) continue;
-      if (!blockCovered(be) || !inFront(e, dz, x0, y0, lo, hi, ord[t], nearestOpaque) ||
-          !p.constantOf(i, cache, col[t]))
+      if (!blockCovered(be)) return false;
+      if (weighted) {
+        // DepthTerms::at with d1 = d2 = 0 is z0 + (+-0): z0 itself where z0 > 0.
+        if (!(dz.d1 == 0.0f && dz.d2 == 0.0f && dz.z0 > 0.0f)) return false;
+        z[t] = clamp01(dz.z0);
+        if (!(floatBits(z[t]) < nearestOpaque)) return false;
+      } else if (!inFront(e, dz, x0, y0, lo, hi, ord[t], nearestOpaque)) {
         return false;
+      }
+      if (!p.constantOf(i, cache, col[t])) return false;
     }
-    alignas(64) float r[1] = {0.0f}, g[1] = {0.0f}, b[1] = {0.0f}, tr[1] = {1.0f};
+    alignas(64) float r[1] = {0.0f}, g[1] = {0.0f}, b[1] = {0.0f}, a[1] = {0.0f}, tr[1] = {1.0f};
     uint32_t c = 0;
     for (uint32_t t = 0; t < n; ++t) {
-      if (!in[t]) continue;
       ++c;
-      overPixel(0, (tr[0] > 0.0f) & (col[t].w > 0.0f), col[t].x, col[t].y, col[t].z, col[t].w, r, g, b, tr);
+      const float4 k = col[t];
+      if (weighted)
+        weightedPixel(0, k.w > 0.0f, k.x, k.y, k.z, k.w, FragShade::weightOf(z[t], zn, zf), r, g, b, a, tr);
+      else
+        overPixel(0, (tr[0] > 0.0f) & (k.w > 0.0f), k.x, k.y, k.z, k.w, r, g, b, tr);
     }
-    for (int q = 0; q < kPixels; ++q) {
-      aR[q] = r[0];
-      aG[q] = g[0];
-      aB[q] = b[0];
-      T[q] = tr[0];
-      cnt[q] = c;
-    }
+    for (int q = 0; q < kPixels; ++q) cnt[q] = c;
+    if (weighted)
+      for (int q = 0; q < kPixels; ++q) {
+        out.wR[q] = r[0];
+        out.wG[q] = g[0];
+        out.wB[q] = b[0];
+        out.wA[q] = a[0];
+        out.reveal[q] = tr[0];
+      }
+    else
+      for (int q = 0; q < kPixels; ++q) {
+        out.aR[q] = r[0];
+        out.aG[q] = g[0];
+        out.aB[q] = b[0];
+        out.T[q] = tr[0];
+      }
     return true;
   }
 
@@ -483,14 +494,15 @@ struct PeelBlocks {
       uint32_t nearestOpaque = opq[0];  // 0 where a pixel lies outside the frame
       for (int q = 1; q < kPixels; ++q) nearestOpaque = opq[q] < nearestOpaque ? opq[q] : nearestOpaque;
       if constexpr (P::kConstant)
-        if (!weighted && uniform(x0, y0, idx, ord, n, lo, hi, s, nearestOpaque, cache, aR, aG, aB, T, cnt)) n = 0;
+        if (uniform(x0, y0, idx, ord, n, lo, hi, s, nearestOpaque, zn, zf, cache,
+                    Sums{aR, aG, aB, T, wR, wG, wB, wA, reveal}, cnt))
+          n = 0;
       for (uint32_t t = 0; t < n; ++t) {
         const uint32_t i = idx[ord[t]];
         const RasterTri& tri = fs.sc.tris(i);
         const Edges e(tri);
         const DepthTerms dz(tri);
         const BlockEdges be = blockEdges(e, dz, x0, y0, ox, oy);
-        if (blockOutside(be)) continue;  // no fragment in the block
         alignas(64) int32_t pass[kPixels];
         alignas(64) float z[kPixels];
         bool covered = !weighted && blockCovered(be);
