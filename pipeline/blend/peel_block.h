@@ -16,8 +16,9 @@
 // covers the block in front of the opaque depth with one colour (unlit
 // layers; weighted: parallel to the image, one weight), the block's pixels
 // composite the same colours: once for all 64 (uniform). Other blocks
-// (overlapping ranges, lists longer than kBlockOrderMax) take peel.h's rows. The same fragments are composited in
-// the same order with the same arithmetic as there: the same bits
+// (overlapping ranges, lists longer than kBlockOrderMax) take peel.h's rows.
+// The same fragments are composited in the same order with the same
+// arithmetic as there: the same bits
 // (tests/pipeline/test_transparency.cpp, TestHooks::peelRows). GPUs take
 // peel_team.h's team form, which walks in order the same way a pixel a thread.
 #pragma once
@@ -403,6 +404,9 @@ struct PeelBlocks {
     float z[kBlockOrderMax];  // weighted: the triangle's one depth
     for (uint32_t t = 0; t < n; ++t) {
       const uint32_t i = idx[ord[t]];
+      // The colour first: a lit or textured layer leaves before its edges
+      // are set up (the walk sets them up again).
+      if (!p.constantOf(i, cache, col[t])) return false;
       const RasterTri& tri = fs.sc.tris(i);
       const Edges e(tri);
       const DepthTerms dz(tri);
@@ -416,7 +420,6 @@ struct PeelBlocks {
       } else if (!inFront(e, dz, x0, y0, lo, hi, ord[t], nearestOpaque)) {
         return false;
       }
-      if (!p.constantOf(i, cache, col[t])) return false;
     }
     alignas(64) float r[1] = {0.0f}, g[1] = {0.0f}, b[1] = {0.0f}, a[1] = {0.0f}, tr[1] = {1.0f};
     uint32_t c = 0;

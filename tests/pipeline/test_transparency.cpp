@@ -402,7 +402,7 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
   // layers (a pixel stops at the first), a vertex-coloured quad; Lambert (lit
   // together by the span shader's vector loop), Blinn-Phong, the glTF shading
   // (the layers unlit: one colour a triangle, composited without shading;
-  // where every layer covers or misses a block, once for its 64 pixels);
+  // where every listed layer covers a block, once for its 64 pixels);
   // one and four samples; the frame's size not a multiple of 8. GPUs ignore
   // the hook: there both films are the team form's.
   struct Rows {
