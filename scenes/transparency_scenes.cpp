@@ -61,12 +61,19 @@ Scene transparencyLayers(const Params& p) {
   const bool mixed = param(p, "mixed", 0, 0, 1) != 0, unlit = param(p, "unlit", 1, 0, 1) != 0;
   const bool back = param(p, "back", 1, 0, 1) != 0, cross = param(p, "cross", 0, 0, 1) != 0;
   const bool equal = param(p, "equal", 0, 0, 1) != 0;
+  // An opaque quad among the layers, its edges across 8x8 blocks: the layers
+  // behind it hidden, those in front over it.
+  const bool occluder = param(p, "occluder", 0, 0, 1) != 0;
   const double nearest = param(p, "near_alpha", -1, -1, 1);  // >= 0: the nearest layer's alpha (a strong layer in front)
   const bool front = p.count("order") && p.at("order") == "front";
   if (p.count("order") && !front && p.at("order") != "back") throw Error("builtin:layers order must be back or front");
   if (back) {
     const double z[4] = {-1.0, -1.0, -1.0, -1.0};
     quad(s, -kHalfW * 1.5, -kHalfH * 1.5, kHalfW * 1.5, kHalfH * 1.5, z, material(s, {1, 0, 0, 1}, AlphaMode::Opaque, unlit));
+  }
+  if (occluder) {
+    const double z[4] = {-0.42, -0.42, -0.42, -0.42};
+    quad(s, -kHalfW * 0.43, -kHalfH * 0.37, kHalfW * 0.31, kHalfH * 0.29, z, material(s, {0, 1, 0, 1}, AlphaMode::Opaque, unlit));
   }
   for (int k = 0; k < n; ++k) {
     const int layer = front ? k : n - 1 - k;  // layer 0 is the nearest

@@ -190,7 +190,9 @@ bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p) {
 
 uint64_t blendBytesPerSample(const BlendPlan& b) {
   // The listed methods: the opaque depth, and a count and an end per 8x8
-  // block (a byte a pixel, rounded up); the tile lists themselves: lastFrameFit.
+  // block, with the team form's uniform composite and count under the glTF
+  // shading (28 bytes a block: a byte a pixel, rounded up); the tile lists
+  // themselves: lastFrameFit.
   constexpr uint64_t listed = sizeof(uint32_t) + 1;
   switch (b.method) {
     case Transparency::Exact:
@@ -218,7 +220,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
   });
   if (b.lists) {
     const bool weighted = b.method == Transparency::Weighted;
-    tileLists(f, opaqueKeys, weighted, weighted ? fragFamily(makeFragShade(s, f, p, lights)) : kFragGeneral);
+    tileLists(f, opaqueKeys, weighted, fragFamily(makeFragShade(s, f, p, lights)));
     return;
   }
   ensureCapacity(bb.accum, "blend.accum", n);

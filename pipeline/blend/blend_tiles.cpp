@@ -268,7 +268,7 @@ struct PeelLaunch {
   template <int kFam, int kFeat>
   void run() const {
     const BlendBuffers& bb = f.blend;
-    const Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
+    Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
                                  bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted,
                                  fs.sh.p.mode == ShadingMode::Lambert && fs.sh.p.headlight ? 1 : 0, weighted,
                                  f.color, packed, plan.encode ? 1 : 0, plan.raw ? 1 : 0, plan.straight ? 1 : 0};
@@ -282,6 +282,11 @@ struct PeelLaunch {
     } else if (teamForm()) {
       using Team = PeelTeam<kFam, kFeat>;
       const int64_t blocks = kPeelRun == 1 ? items >> (2 * kItemShift) : items;
+      if constexpr (uniformBlocksFor<kFam, kFeat>()) {
+        peel.blockComposite = bb.blockComposite;  // (allocated by tileLists)
+        peel.blockFrags = bb.blockFrags;
+        Kokkos::parallel_for("rast::blend::uniform_blocks", lightweight(Range(0, blocks)), UniformBlocks<kFam, kFeat>{peel});
+      }
       const uint32_t entries = Team::entriesFor(bb.longestList);
       // The larger scratch under launch bounds that let its teams fit a
       // multiprocessor (Kokkos refuses a scratch that does not).
@@ -315,6 +320,10 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
   ensureCapacity(bb.tileCount, "blend.tileCount", blocks);
   ensureCapacity(bb.tileEnd, "blend.tileEnd", blocks);
   ensureCapacity(bb.opaque, "blend.opaque", n);
+  if (fam == kFragPbr && teamForm()) {  // the uniform blocks (uniform_blocks.h)
+    ensureCapacity(bb.blockComposite, "blend.blockComposite", blocks);
+    ensureCapacity(bb.blockFrags, "blend.blockFrags", blocks);
+  }
   if (!bb.tileTris.data()) {
     bb.tileCapacity = bb.tileCapacity ? bb.tileCapacity : blocks;  // one entry a block, then the frame's need
     bb.tileTris = allocUninit<uint32_t>("blend.tileTris", bb.tileCapacity);

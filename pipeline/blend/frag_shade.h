@@ -287,8 +287,8 @@ FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams
 
 // The methods that walk tile lists (blend_tiles.cpp: exact, sorted,
 // weighted): the lists, built before shading (they read the opaque depth;
-// weighted's in raster-index order, for the resolve of fragment family
-// `fam`), and the resolve after it.
+// weighted's in raster-index order; with the uniform blocks' buffers under
+// the team form of fragment family `fam`), and the resolve after it.
 void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, bool rasterOrder, FragFamily fam);
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                  const BlendPlan& b);

@@ -59,6 +59,14 @@ KOKKOS_INLINE_FUNCTION void blockDepthRange(const Edges& e, const DepthTerms& dz
   hi = h == h ? float(h < 0.0 ? 0.0 : (h > 1.0 ? 1.0 : h)) : h;
 }
 
+// Whether a triangle's depth at every sample of a block, within a range
+// [lo, hi] that bounds it (blockDepthRange, depthBounds) and above 0 (not
+// -0, whose bits fail LESS), lies in front of the nearest opaque depth
+// (bits) nearest: then every covered sample passes LESS.
+KOKKOS_INLINE_FUNCTION bool blockInFront(float lo, float hi, uint32_t nearest) {
+  return lo > 0.0f && hi == hi && floatBits(hi) < nearest;
+}
+
 // The resolve for the frame's fragment family and features (frag_shade.h).
 template <int kFam, int kFeat>
 struct Peel {
@@ -75,6 +83,10 @@ struct Peel {
   // resolve folds the film's encoding in (BlendPlan::encode, raw, straight).
   DView<uint32_t> color, packed;
   int32_t encode = 0, raw = 0, straight = 0;
+  // The team form under the glTF shading: per block the composite of a
+  // uniform block and its fragments a sample (uniform_blocks.h).
+  DView<float4> blockComposite;
+  DView<uint32_t> blockFrags;
 
   // Sample s of S of pixel px: what lies in front (acc, transmittance T)
   // over the opaque colour in the film; with several samples their running

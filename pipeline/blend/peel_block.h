@@ -164,13 +164,6 @@ KOKKOS_INLINE_FUNCTION bool blockCovered(const BlockEdges& k) {
     }
   return in;
 }
-// Whether a triangle's depth at every sample of the block, within its
-// blockDepthRange [lo, hi] and above 0 (not -0, whose bits fail LESS), lies
-// in front of the nearest opaque depth (bits) nearest: then every covered
-// sample passes blockFragmentsWide's LESS.
-KOKKOS_INLINE_FUNCTION bool blockInFront(float lo, float hi, uint32_t nearest) {
-  return lo > 0.0f && hi == hi && floatBits(hi) < nearest;
-}
 
 // "over" for a block's pixels at once, a pixel whose colour's alpha cA[q] is
 // above 0 composited (the others, alpha 0 or NaN or not a fragment,

@@ -6,6 +6,7 @@
 
 #include "backends/team_scratch.h"
 #include "pipeline/blend/peel.h"
+#include "pipeline/blend/uniform_blocks.h"
 
 namespace rast {
 namespace blending {
@@ -133,6 +134,27 @@ struct PeelTeam {
     const uint32_t end = listed ? P.tileEnd(block) : 0u, begin = listed ? end - P.tileCount(block) : 0u;
     const uint32_t n = end - begin;
     const int nThreads = m.team_size(), me = m.team_rank();
+    if constexpr (uniformBlocksFor<kFam, kFeat>()) {
+      // Composited once before the resolve (uniform_blocks.h): the same
+      // value at every sample, the scratch left as it is.
+      const uint32_t u = P.blockFrags(block);  // the same for the whole team
+      if (u != kUniformWalk) {
+        const float4 o = P.blockComposite(block);
+        for (int p = me; p < kPixels; p += nThreads) {
+          const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
+          if (X < P.width && Y < P.height) {
+            const int S = P.fs.sp.count;
+            const int64_t px = int64_t(Y) * P.width + X;
+            float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
+            for (int s = 0; s < S; ++s) {
+              count(u, frags);
+              P.filmSample(px, s, S, float3{o.x, o.y, o.z}, o.w, sum);
+            }
+          }
+        }
+        return;
+      }
+    }
     if (n > entries) {  // the plain resolve's walk of the global list
       typename Peel<kFam, kFeat>::PeelCache cache;
       for (int p = me; p < kPixels; p += nThreads) {

@@ -30,6 +30,10 @@ struct BlendBuffers {
   // need by Renderer::lastFrameFit); per sample the opaque depth's bits
   // (shading clears the visibility buffer before the resolve reads them)
   DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
+  // The team form under the glTF shading (pipeline/blend/uniform_blocks.h):
+  // per 8x8 block the composite where it is uniform, and its fragments a sample
+  DView<float4> blockComposite;
+  DView<uint32_t> blockFrags;
   uint64_t tileCapacity = 0;
   uint64_t longestList = 0;  // the last frame's kBlendLongest, read on the host (the resolve's scratch size)
   // kbuffer: k keys per sample, nearest first
@@ -43,7 +47,8 @@ struct BlendBuffers {
   void release() { *this = BlendBuffers(); }
   size_t bytes() const {
     return viewBytes(totals) + viewBytes(maskStart) + viewBytes(blendStart) + viewBytes(tileCount) + viewBytes(tileEnd) +
-           viewBytes(tileTris) + viewBytes(opaque) + viewBytes(slots) + viewBytes(accum) + viewBytes(reveal);
+           viewBytes(tileTris) + viewBytes(opaque) + viewBytes(blockComposite) +
+           viewBytes(blockFrags) + viewBytes(slots) + viewBytes(accum) + viewBytes(reveal);
   }
 };
 

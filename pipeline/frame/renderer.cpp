@@ -457,6 +457,8 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
       } else {
         blendFallback_ = true;
         frame_.blend.tileTris = frame_.blend.tileCount = frame_.blend.tileEnd = frame_.blend.opaque = DView<uint32_t>();
+        frame_.blend.blockFrags = DView<uint32_t>();
+        frame_.blend.blockComposite = DView<float4>();
         frame_.blend.tileCapacity = 0;
         BlendPlan k = plan_.blend;
         if (k.method != Transparency::Weighted) k.method = Transparency::KBuffer;  // as chooseTransparency

@@ -13,6 +13,7 @@
 #include <initializer_list>
 
 #include "pipeline/blend/blend.h"
+#include "pipeline/blend/uniform_blocks.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
 #include "pipeline/data/test_hooks.h"
@@ -368,9 +369,47 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   };
   sameUnderHook<Team>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
                        "builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&order=front",
+                       "builtin:layers?n=8&mixed=1&occluder=1", "builtin:layers?n=8&mixed=1&cross=1",
                        "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
                        "builtin:layers?n=6&mixed=1&equal=1", "builtin:cutout?blend=1"},
                       small());
+  // Under the glTF shading the unlit layers' blocks are composited once
+  // before the team's walk (uniform_blocks.h), those that the occluder's
+  // edges cross or hide layers in, and those on the quads' diagonals, are
+  // walked: both kinds are in the films compared above. The walk is taken for
+  // every block of lit layers, for weighted's tilted ones (no one weight), and
+  // for exact's tilted ones, whose whole depth ranges overlap.
+  {
+    Team g;
+    const auto uniformBlocks = [](const char* name, Transparency t, ShadingMode mode) {
+      const Scene s = builtinScene(name);
+      RenderSettings rs = small();
+      rs.shading = mode;
+      rs.transparency = t;
+      Renderer r(s);
+      r.render(defaultCamera(s), rs);
+      const auto frags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), r.frameBuffers().blend.blockFrags);
+      const size_t blocks = size_t((rs.width + 7) / 8) * size_t((rs.height + 7) / 8);
+      size_t once = 0;
+      for (size_t b = 0; b < blocks && b < frags.extent(0); ++b) once += frags(b) != blending::kUniformWalk ? 1 : 0;
+      return std::make_pair(once, blocks);
+    };
+    for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
+      INFO("method " << int(t));
+      const auto plain = uniformBlocks("builtin:layers?n=8&mixed=1", t, ShadingMode::Pbr);
+      CHECK(plain.first * 2 >= plain.second);  // most blocks (not the diagonals')
+      CHECK(plain.first < plain.second);
+      const auto hidden = uniformBlocks("builtin:layers?n=8&mixed=1&occluder=1", t, ShadingMode::Pbr);
+      CHECK(hidden.first > 0);
+      CHECK(hidden.first + 4 < plain.first);  // the blocks over the occluder (9 of 84) walked
+      CHECK(uniformBlocks("builtin:layers?n=8&mixed=1&unlit=0", t, ShadingMode::Pbr).first == 0);
+      const auto tilted = uniformBlocks("builtin:layers?n=8&mixed=1&cross=1", t, ShadingMode::Pbr);
+      if (t == Transparency::Sorted)
+        CHECK(tilted.first > 0);
+      else
+        CHECK(tilted.first == 0);
+    }
+  }
   // A second frame sizes the scratch for the first frame's longest list
   // (40 intersecting layers: up to 80 triangles a block, past the smaller
   // scratch): the same bits as the first frame, which walked those lists
@@ -411,6 +450,7 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
   };
   sameUnderHook<Rows>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
                        "builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&order=front",
+                       "builtin:layers?n=8&mixed=1&occluder=1",
                        "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
                        "builtin:layers?n=6&mixed=1&equal=1", "builtin:layers?n=64&alpha=0.1",
                        "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"},
