@@ -269,9 +269,9 @@ struct PeelLaunch {
   void run() const {
     const BlendBuffers& bb = f.blend;
     Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
-                                 bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted,
-                                 fs.sh.p.mode == ShadingMode::Lambert && fs.sh.p.headlight ? 1 : 0, weighted,
-                                 f.color, packed, plan.encode ? 1 : 0, plan.raw ? 1 : 0, plan.straight ? 1 : 0};
+                           bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted,
+                           fs.sh.p.mode == ShadingMode::Lambert && fs.sh.p.headlight ? 1 : 0, weighted,
+                           f.color, packed, plan.encode ? 1 : 0, plan.raw ? 1 : 0, plan.straight ? 1 : 0};
     // The specialised resolves keep everything inline (nothing takes a
     // local's address) and launch lightweight, as the shade stage's lit and
     // glTF kernels; the general one calls the general fragment maths out

@@ -20,7 +20,7 @@ namespace blending {
 
 // Longest list composited once (its keys and colours on the thread's stack).
 constexpr uint32_t kUniformMax = 16;
-// blockUniform's value for a block the team walks.
+// blockFrags' value for a block the team walks.
 constexpr uint32_t kUniformWalk = ~0u;
 
 // The resolves that read the uniform blocks: the glTF shading's instances
