@@ -381,10 +381,10 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   // for exact's tilted ones, whose whole depth ranges overlap.
   {
     Team g;
-    const auto uniformBlocks = [](const char* name, Transparency t, ShadingMode mode) {
+    const auto uniformBlocks = [](const char* name, Transparency t) {  // under the glTF shading
       const Scene s = builtinScene(name);
       RenderSettings rs = small();
-      rs.shading = mode;
+      rs.shading = ShadingMode::Pbr;
       rs.transparency = t;
       Renderer r(s);
       r.render(defaultCamera(s), rs);
@@ -396,14 +396,14 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
     };
     for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
       INFO("method " << int(t));
-      const auto plain = uniformBlocks("builtin:layers?n=8&mixed=1", t, ShadingMode::Pbr);
+      const auto plain = uniformBlocks("builtin:layers?n=8&mixed=1", t);
       CHECK(plain.first * 2 >= plain.second);  // most blocks (not the diagonals')
       CHECK(plain.first < plain.second);
-      const auto hidden = uniformBlocks("builtin:layers?n=8&mixed=1&occluder=1", t, ShadingMode::Pbr);
+      const auto hidden = uniformBlocks("builtin:layers?n=8&mixed=1&occluder=1", t);
       CHECK(hidden.first > 0);
       CHECK(hidden.first + 4 < plain.first);  // the blocks over the occluder (9 of 84) walked
-      CHECK(uniformBlocks("builtin:layers?n=8&mixed=1&unlit=0", t, ShadingMode::Pbr).first == 0);
-      const auto tilted = uniformBlocks("builtin:layers?n=8&mixed=1&cross=1", t, ShadingMode::Pbr);
+      CHECK(uniformBlocks("builtin:layers?n=8&mixed=1&unlit=0", t).first == 0);
+      const auto tilted = uniformBlocks("builtin:layers?n=8&mixed=1&cross=1", t);
       if (t == Transparency::Sorted)
         CHECK(tilted.first > 0);
       else
