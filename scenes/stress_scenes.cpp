@@ -346,7 +346,7 @@ const std::vector<StressSceneRow>& stressSceneTable() {
       {{"grid", "a 2n^2-triangle grid for triangle-size sweeps (?n=)"}, gridScene},
       {{"lines", "a million line segments, vertex-coloured, and an occluding quad (?n=)"}, linesScene},
       {{"points", "a million points, vertex-coloured, and an occluding quad (?n=)"}, pointsScene},
-      {{"layers", "BLEND layers over an opaque backdrop (?n=&alpha=&mixed=&unlit=&back=&order=&cross=&equal=&occluder=&near_alpha=)"},
+      {{"layers", "BLEND layers over an opaque backdrop (?n=&alpha=&mixed=&unlit=&back=&order=&cross=&equal=&occluder=&near_alpha=&tex=)"},
        transparencyLayers},
       {{"cutout", "a MASK quad, COLOR_0 alpha 0 to 1, over an opaque backdrop (?cutoff=&blend=)"}, transparencyCutout},
   };

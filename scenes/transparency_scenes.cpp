@@ -37,12 +37,14 @@ int32_t material(Scene& s, float4 c, AlphaMode mode, bool unlit, float cutoff = 
 
 // A quad over [x0,x1]x[y0,y1], its corners' depths z (lower left, lower right,
 // upper right, upper left), counter-clockwise seen from +z.
+// uv: texture coordinates 0..1 across it.
 void quad(Scene& s, double x0, double y0, double x1, double y1, const double (&z)[4], int32_t mat,
-          const std::vector<float4>* col = nullptr) {
+          const std::vector<float4>* col = nullptr, bool uv = false) {
   const std::vector<float3> p = {{float(x0), float(y0), float(z[0])}, {float(x1), float(y0), float(z[1])},
                                  {float(x1), float(y1), float(z[2])}, {float(x0), float(y1), float(z[3])}};
   const std::vector<float3> n(4, float3{0, 0, 1});
-  s.draws.push_back(Draw{addPrim(s, p, &n, nullptr, col, {0, 1, 2, 0, 2, 3}, mat), glm::dmat4(1.0)});
+  const std::vector<float2> t = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  s.draws.push_back(Draw{addPrim(s, p, &n, uv ? &t : nullptr, col, {0, 1, 2, 0, 2, 3}, mat), glm::dmat4(1.0)});
 }
 
 Scene start(const char* name) {
@@ -61,6 +63,10 @@ Scene transparencyLayers(const Params& p) {
   const bool mixed = param(p, "mixed", 0, 0, 1) != 0, unlit = param(p, "unlit", 1, 0, 1) != 0;
   const bool back = param(p, "back", 1, 0, 1) != 0, cross = param(p, "cross", 0, 0, 1) != 0;
   const bool equal = param(p, "equal", 0, 0, 1) != 0;
+  // tex: the layers' base colour textured (2x2 texels, grey to white): no
+  // layer has one colour.
+  const bool tex = param(p, "tex", 0, 0, 1) != 0;
+  if (tex) s.textures.push_back(Texture{2, 2, {0xff808080u, 0xffffffffu, 0xffffffffu, 0xff808080u}});
   // An opaque quad among the layers, its edges across 8x8 blocks: the layers
   // behind it hidden, those in front over it.
   const bool occluder = param(p, "occluder", 0, 0, 1) != 0;
@@ -88,7 +94,9 @@ Scene transparencyLayers(const Params& p) {
     // Neighbours tilted opposite ways about the vertical axis cross mid-screen.
     const double t = cross ? (layer % 2 ? 0.08 : -0.08) : 0.0;
     const double z[4] = {zc - t, zc + t, zc + t, zc - t};
-    quad(s, -kHalfW * 1.2, -kHalfH * 1.2, kHalfW * 1.2, kHalfH * 1.2, z, material(s, c, AlphaMode::Blend, unlit));
+    const int32_t mat = material(s, c, AlphaMode::Blend, unlit);
+    if (tex) s.materials[size_t(mat)].texture = 0;
+    quad(s, -kHalfW * 1.2, -kHalfH * 1.2, kHalfW * 1.2, kHalfH * 1.2, z, mat, nullptr, tex);
   }
   return s;
 }

@@ -286,13 +286,16 @@ struct PeelLaunch {
         peel.blockComposite = bb.blockComposite;  // (allocated by tileLists)
         peel.blockFrags = bb.blockFrags;
         Kokkos::parallel_for("rast::blend::uniform_blocks", lightweight(Range(0, blocks)), UniformBlocks<kFam, kFeat>{peel});
+        Kokkos::parallel_for("rast::blend::uniform_pixels", lightweight(Range(0, int64_t(f.vp.width) * f.vp.height)),
+                             UniformPixels<kFam, kFeat>{peel});
       }
       const uint32_t entries = Team::entriesFor(bb.longestList);
       // The larger scratch under launch bounds that let its teams fit a
-      // multiprocessor (Kokkos refuses a scratch that does not).
-      if (entries <= Team::entriesIn(kBlendTeamScratchBytes))
+      // multiprocessor (Kokkos refuses a scratch that does not). Host
+      // backends ignore launch bounds: one instance of the team kernel.
+      if (!kOnDevice || entries <= Team::entriesIn(kBlendTeamScratchBytes))
         launchTeams<kBlendTeamLaunchBounds[0], kBlendTeamLaunchBounds[1]>(Team{peel, blocks, entries});
-      else
+      else if constexpr (kOnDevice)
         launchTeams<kBlendTeamDeepLaunchBounds[0], kBlendTeamDeepLaunchBounds[1]>(Team{peel, blocks, entries});
     } else {
       using Policy =

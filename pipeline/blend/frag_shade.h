@@ -126,6 +126,26 @@ struct FragShade {
       return false;
     }
   }
+  // The same for raster triangle i, read from its draw's material alone
+  // (what AlphaScene::prepare and use() would take from it), without
+  // setting the triangle up: the uniform blocks' classification, a thread
+  // a block over its list (uniform_blocks.h), where the set-up's vertex
+  // loads took most of the time.
+  template <int kFam, int kFeat>
+  RAST_GPU_INLINE bool constantColourOf(const uint32_t i, float4& c) const {
+    if constexpr (kFam == kFragPbr && kFeat != shading::kPbrAny) {
+      if (sh.hasColor || sc.hasColor) return false;
+      const int32_t mat = sc.draws(drawOf(sc.triDraw, sc.drawTriStart, sc.numDraws, sc.tris(i).prim)).material;
+      if (mat < 0) return false;  // the spec's default material is lit
+      const MaterialGPU& m = sh.materials(mat);  // PbrTri::m
+      const MaterialGPU& ma = sc.materials(mat);  // AlphaTri's alpha and texture
+      if (!(m.flags & kMaterialUnlit) || sh.pbrTextured(m) || (ma.texture >= 0 && sc.hasUV)) return false;
+      c = float4{m.baseColor.x, m.baseColor.y, m.baseColor.z, cleanAlpha(ma.baseColor.w)};
+      return true;
+    } else {
+      return false;
+    }
+  }
   // Weighted blended OIT's weight (McGuire and Bavoil 2013, eq. 7) at window depth d.
   RAST_GPU_INLINE float weight(float d) const {
     return weightOf(d, sh.p.frame(0).camera.znear, sh.p.frame(0).camera.zfar);

@@ -67,6 +67,25 @@ KOKKOS_INLINE_FUNCTION bool blockInFront(float lo, float hi, uint32_t nearest) {
   return lo > 0.0f && hi == hi && floatBits(hi) < nearest;
 }
 
+// Whether raster triangles s and t (counter-clockwise, finishTriangle) share
+// an edge, a to b in one and b to a in the other: their interiors then lie
+// on either side of it, and on it the top-left rule gives a sample to one of
+// them (the two edge functions are each other's negation, and their biases
+// differ), so no sample has a fragment of both: a quad's two halves.
+// sharedEdge: 3 i + k for s's edge i (vertex i to i + 1, Edges' numbering)
+// and t's edge k, else -1.
+KOKKOS_INLINE_FUNCTION int32_t sharedEdge(const RasterTri& s, const RasterTri& t) {
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = i == 2 ? 0 : i + 1;
+    for (int k = 0; k < 3; ++k) {
+      const int k1 = k == 2 ? 0 : k + 1;
+      if (s.x[i] == t.x[k1] && s.y[i] == t.y[k1] && s.x[i1] == t.x[k] && s.y[i1] == t.y[k]) return 3 * i + k;
+    }
+  }
+  return -1;
+}
+KOKKOS_INLINE_FUNCTION bool edgeNeighbours(const RasterTri& s, const RasterTri& t) { return sharedEdge(s, t) >= 0; }
+
 // The resolve for the frame's fragment family and features (frag_shade.h).
 template <int kFam, int kFeat>
 struct Peel {

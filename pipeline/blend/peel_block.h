@@ -136,22 +136,6 @@ RAST_CPU_CLONES void filmBlockWide(const float* __restrict__ aR, const float* __
   }
 }
 
-// Whether raster triangles s and t (counter-clockwise, finishTriangle) share
-// an edge, a to b in one and b to a in the other: their interiors then lie
-// on either side of it, and on it the top-left rule gives a sample to one of
-// them (the two edge functions are each other's negation, and their biases
-// differ), so no sample has a fragment of both: a quad's two halves.
-KOKKOS_INLINE_FUNCTION bool edgeNeighbours(const RasterTri& s, const RasterTri& t) {
-  for (int i = 0; i < 3; ++i) {
-    const int i1 = i == 2 ? 0 : i + 1;
-    for (int k = 0; k < 3; ++k) {
-      const int k1 = k == 2 ? 0 : k + 1;
-      if (s.x[i] == t.x[k1] && s.y[i] == t.y[k1] && s.x[i1] == t.x[k] && s.y[i1] == t.y[k]) return true;
-    }
-  }
-  return false;
-}
-
 // Whether the triangle of edges k takes in the sample of all 64 pixels: an
 // edge function is linear, so its least value over them is at a corner pixel
 // (the same sums as blockFragmentsWide's, exact integers in double).

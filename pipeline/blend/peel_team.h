@@ -72,7 +72,11 @@ struct PeelTeam {
   // A team takes a run of neighbouring blocks (along a row: mostly the same
   // list, whose entries it then keeps), and counts its fragments into
   // totals(kBlendFrags) with one atomic (a team reduction per block cost
-  // more than the resolve's own work on the H100).
+  // more than the resolve's own work on the H100). Where uniform blocks are
+  // taken out first, the walked ones are few and gather (a quad's diagonal):
+  // a team takes every league_size-th block, so that they spread over the
+  // teams. One loop either way: a second loop calling resolveBlock made
+  // the kernel's stack ten times larger on the H200.
   RAST_FLATTEN void operator()(const TeamMember& m) const {
     // inTeamScratch: read with shared loads on CUDA (backends/team_scratch.h).
     Scratch sc;
@@ -83,13 +87,16 @@ struct PeelTeam {
     sc.ordered = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
     sc.same = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
     sc.global = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
+    constexpr bool kStrided = uniformBlocksFor<kFam, kFeat>();
     const int64_t per = (blocks + m.league_size() - 1) / m.league_size();
-    const int64_t b0 = per * m.league_rank(), b1 = b0 + per < blocks ? b0 + per : blocks;
+    const int64_t b0 = kStrided ? m.league_rank() : per * m.league_rank();
+    const int64_t b1 = kStrided ? blocks : (b0 + per < blocks ? b0 + per : blocks);
+    const int64_t step = kStrided ? m.league_size() : 1;
     uint64_t frags = 0;
     uint32_t held = ~0u;  // the length of the list whose entries the scratch holds (~0u: none)
     if (m.team_rank() == 0) *sc.frags = 0;
     m.team_barrier();  // before any thread adds to it (a run of long lists has no barrier of its own)
-    for (int64_t block = b0; block < b1; ++block) resolveBlock(m, sc, block, held, frags);
+    for (int64_t block = b0; block < b1; block += step) resolveBlock(m, sc, block, held, frags);
     if (frags) Kokkos::atomic_add(sc.frags, frags);
     m.team_barrier();
     if (m.team_rank() == 0 && *sc.frags) Kokkos::atomic_add(&peel.totals(kBlendFrags), *sc.frags);
@@ -134,23 +141,15 @@ struct PeelTeam {
     const uint32_t end = listed ? P.tileEnd(block) : 0u, begin = listed ? end - P.tileCount(block) : 0u;
     const uint32_t n = end - begin;
     const int nThreads = m.team_size(), me = m.team_rank();
+    // Composited and written before the resolve (uniform_blocks.h): only
+    // counted here (by one thread), the scratch left as it is.
     if constexpr (uniformBlocksFor<kFam, kFeat>()) {
-      // Composited once before the resolve (uniform_blocks.h): the same
-      // value at every sample, the scratch left as it is.
       const uint32_t u = P.blockFrags(block);  // the same for the whole team
       if (u != kUniformWalk) {
-        const float4 o = P.blockComposite(block);
-        for (int p = me; p < kPixels; p += nThreads) {
-          const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
-          if (X < P.width && Y < P.height) {
-            const int S = P.fs.sp.count;
-            const int64_t px = int64_t(Y) * P.width + X;
-            float4 sum{0.0f, 0.0f, 0.0f, 0.0f};
-            for (int s = 0; s < S; ++s) {
-              count(u, frags);
-              P.filmSample(px, s, S, float3{o.x, o.y, o.z}, o.w, sum);
-            }
-          }
+        if (me == 0) {
+          const int64_t w = P.width - x0 < (1 << kItemShift) ? P.width - x0 : 1 << kItemShift;
+          const int64_t h = P.height - y0 < (1 << kItemShift) ? P.height - y0 : 1 << kItemShift;
+          P.count(uint64_t(w * h * P.fs.sp.count) * u, u, frags);
         }
         return;
       }

@@ -168,8 +168,7 @@ RAST_GPU_INLINE PbrTri Shade::pbrTri(const TriFrag& f) const {
   m.texture = m.mrTexture = m.normalTexture = m.occlusionTexture = m.emissiveTexture = -1;
   m.metallic = m.roughness = m.normalScale = m.occlusionStrength = 1.0f;  // the spec's default material
   if (f.material >= 0) m = materials(f.material);
-  t.textured = hasUV && (m.texture >= 0 || m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 ||
-                         m.emissiveTexture >= 0 || (m.flags & kMaterialClearcoat));
+  t.textured = pbrTextured(m);
   // The material's coordinates: the first set, and the second where some
   // of its textures sample another set or transform (uv1Slots).
   t.on1 = hasUV1 ? uint32_t(m.flags) >> kMaterialUv1Shift : 0u;

@@ -386,6 +386,11 @@ struct Shade {
   RAST_GPU_INLINE float3 normalMapped(const TriFrag& f, const MaterialGPU& m, float b0, float b1, float b2,
                                       float3 N, bool back, const UvSet& c, const float4& texel) const;
   RAST_GPU_INLINE PbrTri pbrTri(const TriFrag& f) const;
+  // PbrTri::textured for material m: some texture of it is sampled.
+  KOKKOS_INLINE_FUNCTION bool pbrTextured(const MaterialGPU& m) const {
+    return hasUV && (m.texture >= 0 || m.mrTexture >= 0 || m.normalTexture >= 0 || m.occlusionTexture >= 0 ||
+                     m.emissiveTexture >= 0 || (m.flags & kMaterialClearcoat));
+  }
   template <int kFeat, class Surface>
   RAST_GPU_INLINE float4 shadePbrWith(const TriFrag& f, const PbrTri& t, int32_t X, int32_t Y, int32_t ox, int32_t oy,
                                       float b0, float b1, float b2, const Surface& surface) const;
