@@ -128,14 +128,24 @@ constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 12};
 constexpr size_t kBlendTeamScratchBytes = 16 * 1024;
 constexpr unsigned kBlendTeamDeepLaunchBounds[2] = {64, 5};
 constexpr size_t kBlendTeamScratchMaxBytes = 44 * 1024;
-// Whether the tile lists' resolve encodes the colour as it writes the film,
+// Whether every tile lists' resolve encodes the colour as it writes the film,
 // where no post pass follows (BlendPlan::encode), instead of the post chain's
 // own pass. On 2 CPU cores, 8 mixed layers at 1920x1080: the 6 ms pass
 // gone, the resolve 3 ms longer. On a GPU the team resolve's three table
-// reads a pixel cost more than the pass they replace (H200, same scene:
-// resolve 0.368 -> 0.383 ms, encode 0.015 -> 0, frame 0.524 -> 0.528; 64
-// layers 4.40 -> 4.45): the chain encodes there.
+// reads a pixel cost more than the pass they replace under Lambert (H200,
+// same scene: resolve 0.368 -> 0.383 ms, encode 0.015 -> 0, frame 0.524 ->
+// 0.528; 64 layers 4.40 -> 4.45): there only the glTF shading's resolve
+// encodes, whose uniform blocks' pixels a light kernel writes
+// (blendResolveEncodes, Peel::kEncodes).
 constexpr bool kBlendResolveEncodes = !kOnDevice;
+// The tile lists' strided layout (pipeline/blend/blend_tiles.cpp): where the
+// last frame's longest list was at most this long, each block's list has
+// this many entries' room at block x stride, filled in one pass with no
+// count pass and no scan. 32 entries: 4 MiB at 1920x1080 (2 bytes a pixel),
+// 16 full-screen layers' quads on their diagonals. On a GPU those two
+// passes were a third of the lists' stage (8 mixed layers, H200); a CPU's
+// count pass owns its blocks (no atomics) and is cheap: counted there.
+constexpr uint32_t kBlendListStride = kOnDevice ? 32 : 0;
 // The visbuffer raster's blocks (raster_visbuffer.cpp) on GPUs: one SIMD group
 // a block, {threads, blocks per multiprocessor}; on NVIDIA {32, 20}, a cap of
 // 102 registers that the kernel's 96 stay under. Its items cost from a few

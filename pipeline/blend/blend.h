@@ -27,6 +27,9 @@ struct BlendPlan {
   // which would only encode the film, does not run: the tile lists' resolve
   // writes every pixel, and the film then has no other pass to wait for.
   bool encode = false, raw = false, straight = false;
+  // The shade stage writes the opaque depth that the lists' resolve reads
+  // (shadeWritesOpaqueDepth): the lists' stage copies none.
+  bool shadeDepth = false;
 };
 
 // Whether `method` walks tile lists, `fallback` telling that they would
@@ -53,7 +56,20 @@ void blendResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
 // depend on besides device memory and the plan's key: the resolve's scratch
 // size, from the last frame's longest list.
 bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p);
+// Whether the tile lists' resolve under shading p can write the colour's
+// bytes itself (BlendPlan::encode): on CPUs always (kBlendResolveEncodes);
+// on GPUs under the glTF shading, whose uniform blocks' pixels a light
+// kernel writes (pipeline/blend/uniform_blocks.h), where the team form's
+// encoding under Lambert cost it what the encoder's pass did.
+bool blendResolveEncodes(const ShadeParams& p);
 uint64_t blendLaunchKey(const FrameBuffers& f);
+// The layout of the frame's tile lists (blend_tiles.cpp): 0 counted, else
+// strided with this stride, where the last frame's longest list fits it and
+// the lists' buffer holds it (Renderer::lastFrameFit grows it).
+uint32_t listStrideFor(const FrameBuffers& f);
+// The entries the strided layout needs for f's frame where the last frame's
+// lists allow it, else 0.
+uint64_t stridedListRoom(const FrameBuffers& f);
 
 // Device bytes per sample of a method's fixed buffers (opaque depth and
 // block counts, k-buffer, weighted sums), and per entry of the listed

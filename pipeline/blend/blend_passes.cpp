@@ -184,6 +184,10 @@ FragFamily blending::fragFamily(const ShadeParams& p) {
   return kFragGeneral;
 }
 
+bool blendResolveEncodes(const ShadeParams& p) {
+  return kBlendResolveEncodes || blending::fragFamily(p) == blending::kFragPbr;  // Peel::kEncodes
+}
+
 bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p) {
   return !b.blend || (b.lists && blending::fragFamily(p) != blending::kFragGeneral);
 }
@@ -191,7 +195,8 @@ bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p) {
 uint64_t blendBytesPerSample(const BlendPlan& b) {
   // The listed methods: the opaque depth, and a count and an end per 8x8
   // block, with the team form's uniform composite and count under the glTF
-  // shading (28 bytes a block: a byte a pixel, rounded up); the tile lists
+  // shading and its list of walked blocks (32 bytes a block: a byte a
+  // pixel, rounded up); the tile lists
   // themselves: lastFrameFit.
   constexpr uint64_t listed = sizeof(uint32_t) + 1;
   switch (b.method) {
@@ -217,10 +222,12 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
     totals(kBlendFrags) = 0;
     totals(kBlendMaxDepth) = 0;
     totals(kBlendLongest) = 0;
+    totals(kBlendWalked) = 0;
+    totals(kBlendListed) = 0;  // (the counted layout's scan writes it; the strided one's fill, on overflow)
   });
   if (b.lists) {
     const bool weighted = b.method == Transparency::Weighted;
-    tileLists(f, opaqueKeys, weighted, fragFamily(makeFragShade(s, f, p, lights)));
+    tileLists(f, opaqueKeys, weighted, fragFamily(makeFragShade(s, f, p, lights)), !b.shadeDepth);
     return;
   }
   ensureCapacity(bb.accum, "blend.accum", n);

@@ -10,7 +10,12 @@
 //   tiles_sort (weighted): each list that the resolve walks in place put in
 //     raster-index order, the order its sums add their terms in (the team
 //     form ranks the lists that fit its scratch);
-//   opaque_depth: the opaque depth of every sample, which shading clears.
+//   opaque_depth: the opaque depth of every sample, which shading clears
+//     (unless the shade stage writes it: BlendPlan::shadeDepth).
+// Where the last frame's lists were short (listStrideFor), each block's list
+// has fixed room at block x stride instead: tiles_fill alone writes it (its
+// cursor the block's count), and tiles_longest finds the longest; a list
+// that outgrows its room makes the frame be drawn again, counted.
 // After shading, resolve: per sample its block's list walked and its
 // fragments composited front to back, peeled K at a time, or summed
 // (weighted) (peel.h); on a GPU a team a block (peel_team.h). This file
@@ -68,6 +73,7 @@ struct TileItems {
   uint32_t capacity, threads, blocksX, blocksY;
   uint64_t tileCapacity;
   int32_t fill;
+  uint32_t stride;  // the strided layout's (fill only; else 0)
   KOKKOS_INLINE_FUNCTION void prepare(uint32_t i, ItemTri& it) const {
     const RasterTri& t = tris(i);
     it.index = i;
@@ -94,6 +100,14 @@ struct TileItems {
     const int32_t y1 = b.maxY < ((by + 1) << kItemShift) - 1 ? b.maxY : ((by + 1) << kItemShift) - 1;
     if (blockMissed(it, x0, x1, y0, y1)) return;
     const uint32_t block = uint32_t(by) * blocksX + uint32_t(bx);
+    if (stride) {  // the block's count is its cursor
+      const uint32_t slot = kOwned ? tileCount(block)++ : Kokkos::atomic_fetch_add(&tileCount(block), 1u);
+      if (slot < stride)
+        tileTris(uint64_t(block) * stride + slot) = it.index;
+      else
+        totals(kBlendListed) = tileCapacity + 1;  // not read: the frame is drawn again, counted (lastFrameFit)
+      return;
+    }
     if (!fill) {
       if (kOwned)
         ++tileCount(block);
@@ -201,13 +215,14 @@ struct TileSort {
   DView<uint64_t> totals;
   uint64_t tileCapacity;
   uint32_t longer;  // the lists sorted: those longer (the team form ranks the others itself)
+  uint32_t stride;  // listStrideFor
   KOKKOS_INLINE_FUNCTION uint32_t* list(const uint32_t block, uint32_t& n) const {
     n = tileCount(block);
     if (totals(kBlendListed) > tileCapacity || n <= longer) {  // not read (the frame is drawn again), or ranked
       n = 0;
       return nullptr;
     }
-    return tileTris.data() + (tileEnd(block) - n);
+    return tileTris.data() + (stride ? uint64_t(block) * stride : tileEnd(block) - n);
   }
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t block) const {
     uint32_t n;
@@ -241,6 +256,30 @@ struct TileSortTeam : TileSort {
     }
   }
 };
+
+// tiles_longest (the strided layout): the longest list into
+// totals(kBlendLongest), a team's maximum a chunk of blocks and one atomic
+// a team (no reduction into device memory: the frame is recorded as a graph).
+struct TileLongest {
+  static constexpr uint32_t kChunk = 2048;
+  DView<uint32_t> tileCount;
+  DView<uint64_t> totals;
+  uint32_t blocks;
+  KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
+    const uint32_t b0 = uint32_t(m.league_rank()) * kChunk, b1 = b0 + kChunk < blocks ? b0 + kChunk : blocks;
+    uint32_t most = 0;
+    Kokkos::parallel_reduce(
+        Kokkos::TeamThreadRange(m, b0, b1), [&](const uint32_t b, uint32_t& v) { v = tileCount(b) > v ? tileCount(b) : v; },
+        Kokkos::Max<uint32_t>(most));
+    if (m.team_rank() == 0 && most) Kokkos::atomic_fetch_max(&totals(kBlendLongest), uint64_t(most));
+  }
+};
+void longestList(const DView<uint32_t>& tileCount, const DView<uint64_t>& totals, const uint32_t blocks) {
+  Kokkos::parallel_for("rast::blend::tiles_longest",
+                       lightweight(TeamPolicy(int((blocks + TileLongest::kChunk - 1) / TileLongest::kChunk),
+                                              kOnDevice ? 256 : 1)),
+                       TileLongest{tileCount, totals, blocks});
+}
 
 // Whether the specialised fragment families resolve a team a block (GPUs;
 // host backends under TestHooks::teamResolve).
@@ -276,6 +315,7 @@ struct PeelLaunch {
     // local's address) and launch lightweight, as the shade stage's lit and
     // glTF kernels; the general one calls the general fragment maths out
     // of line on a GPU and launches heavyweight (pipeline/data/device.h).
+    peel.stride = bb.listStride;
     static_assert(!kOnDevice || sizeof(peel) <= 4000, "a lightweight launch carries its functor in 4 KiB of parameters");
     if constexpr (kFam == kFragGeneral) {
       Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)), peel, result);
@@ -285,7 +325,13 @@ struct PeelLaunch {
       if constexpr (uniformBlocksFor<kFam, kFeat>()) {
         peel.blockComposite = bb.blockComposite;  // (allocated by tileLists)
         peel.blockFrags = bb.blockFrags;
-        Kokkos::parallel_for("rast::blend::uniform_blocks", lightweight(Range(0, blocks)), UniformBlocks<kFam, kFeat>{peel});
+        peel.walkedBlocks = bb.walkedBlocks;
+        using Class = UniformBlocks<kFam, kFeat>;
+        Kokkos::parallel_for("rast::blend::uniform_blocks",
+                             lightweight(TeamPolicy(int((blocks + kClassBlocks - 1) / kClassBlocks),
+                                                    kOnDevice ? kClassBlocks * kClassLanes : 1)
+                                             .set_scratch_size(0, Kokkos::PerTeam(Class::kScratch))),
+                             Class{peel, blocks});
         Kokkos::parallel_for("rast::blend::uniform_pixels", lightweight(Range(0, int64_t(f.vp.width) * f.vp.height)),
                              UniformPixels<kFam, kFeat>{peel});
       }
@@ -315,7 +361,8 @@ struct PeelLaunch {
 
 }  // namespace
 
-void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool rasterOrder, const FragFamily fam) {
+void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool rasterOrder, const FragFamily fam,
+               const bool copyDepth) {
   BlendBuffers& bb = f.blend;
   const uint32_t blocksX = uint32_t(f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
   const uint32_t blocks = blocksX * (uint32_t(f.vp.height + (1 << kItemShift) - 1) >> kItemShift);
@@ -326,6 +373,7 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
   if (fam == kFragPbr && teamForm()) {  // the uniform blocks (uniform_blocks.h)
     ensureCapacity(bb.blockComposite, "blend.blockComposite", blocks);
     ensureCapacity(bb.blockFrags, "blend.blockFrags", blocks);
+    ensureCapacity(bb.walkedBlocks, "blend.walkedBlocks", blocks);
   }
   if (!bb.tileTris.data()) {
     bb.tileCapacity = bb.tileCapacity ? bb.tileCapacity : blocks;  // one entry a block, then the frame's need
@@ -333,18 +381,26 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
   }
   Kokkos::deep_copy(Exec(), Kokkos::subview(bb.tileCount, std::make_pair(size_t(0), size_t(blocks))), 0u);
   const uint32_t threads = persistentThreads();
+  bb.listStride = listStrideFor(f);
   TileItems c{f.tris, bb.blendStart, bb.totals, f.counters, bb.tileCount, bb.tileEnd, bb.tileTris, f.vp,
-              f.triCapacity, threads, blocksX, blocks / blocksX, bb.tileCapacity, 0};
+              f.triCapacity, threads, blocksX, blocks / blocksX, bb.tileCapacity, 0, 0};
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
-  Kokkos::parallel_for("rast::blend::tiles_count", Policy(0, threads), c);
-  Kokkos::parallel_scan("rast::blend::tiles_layout", Policy(0, blocks), TileScan{bb.tileCount, bb.tileEnd, bb.totals, blocks});
-  c.fill = 1;
-  Kokkos::parallel_for("rast::blend::tiles_fill", Policy(0, threads), c);
+  if (bb.listStride) {
+    c.fill = 1;
+    c.stride = bb.listStride;
+    Kokkos::parallel_for("rast::blend::tiles_fill", Policy(0, threads), c);
+    longestList(bb.tileCount, bb.totals, blocks);
+  } else {
+    Kokkos::parallel_for("rast::blend::tiles_count", Policy(0, threads), c);
+    Kokkos::parallel_scan("rast::blend::tiles_layout", Policy(0, blocks), TileScan{bb.tileCount, bb.tileEnd, bb.totals, blocks});
+    c.fill = 1;
+    Kokkos::parallel_for("rast::blend::tiles_fill", Policy(0, threads), c);
+  }
   if (rasterOrder) {
     // The team form resolves a list that fits its scratch in raster-index
     // order whatever the list's: only longer ones, which it walks in place, are sorted.
     const uint32_t longer = fam != kFragGeneral && teamForm() ? kTeamEntriesAlways : 0;
-    const TileSort sort{bb.tileCount, bb.tileEnd, bb.tileTris, bb.totals, bb.tileCapacity, longer};
+    const TileSort sort{bb.tileCount, bb.tileEnd, bb.tileTris, bb.totals, bb.tileCapacity, longer, bb.listStride};
     if constexpr (kOnDevice)
       Kokkos::parallel_for("rast::blend::tiles_sort",
                            TeamPolicy(int(std::min<uint32_t>(blocks, std::max<uint32_t>(1, threads / 32))), 32)
@@ -353,6 +409,7 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
     else
       Kokkos::parallel_for("rast::blend::tiles_sort", Policy(0, blocks), sort);
   }
+  if (!copyDepth) return;  // the shade stage writes it (BlendPlan::shadeDepth)
   auto vis = opaqueKeys;
   auto opaque = bb.opaque;
   Kokkos::parallel_for("rast::blend::opaque_depth", Range(0, int64_t(n)),
@@ -380,7 +437,22 @@ void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, co
 uint64_t blendLaunchKey(const FrameBuffers& f) {
   using namespace blending;
   const uint64_t l = f.blend.longestList;
-  return uint64_t(PeelTeam<kFragLit, 0>::entriesFor(l)) << 32 | PeelTeam<kFragPbr, 0>::entriesFor(l);
+  return (uint64_t(listStrideFor(f)) << 48) ^ (uint64_t(PeelTeam<kFragLit, 0>::entriesFor(l)) << 32 |
+                                               PeelTeam<kFragPbr, 0>::entriesFor(l));
+}
+
+uint64_t stridedListRoom(const FrameBuffers& f) {
+  const uint32_t stride = testHooks().listStride ? testHooks().listStride : kBlendListStride;
+  if (!stride || f.blend.longestList > stride) return 0;
+  constexpr int32_t kShift = blending::kItemShift;
+  return uint64_t((f.vp.width + (1 << kShift) - 1) >> kShift) * uint64_t((f.vp.height + (1 << kShift) - 1) >> kShift) *
+         stride;
+}
+
+uint32_t listStrideFor(const FrameBuffers& f) {
+  const uint64_t room = stridedListRoom(f);
+  if (!room || !f.blend.tileTris.data() || f.blend.tileCapacity < room) return 0;
+  return testHooks().listStride ? testHooks().listStride : kBlendListStride;
 }
 
 }  // namespace rast

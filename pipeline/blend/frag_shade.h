@@ -309,7 +309,7 @@ FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams
 // weighted): the lists, built before shading (they read the opaque depth;
 // weighted's in raster-index order; with the uniform blocks' buffers under
 // the team form of fragment family `fam`), and the resolve after it.
-void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, bool rasterOrder, FragFamily fam);
+void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, bool rasterOrder, FragFamily fam, bool copyDepth);
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                  const BlendPlan& b);
 

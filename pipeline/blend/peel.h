@@ -103,20 +103,25 @@ struct Peel {
   DView<uint32_t> color, packed;
   int32_t encode = 0, raw = 0, straight = 0;
   // The team form under the glTF shading: per block the composite of a
-  // uniform block and its fragments a sample (uniform_blocks.h).
+  // uniform block and its fragments a sample, and the blocks the team walks
+  // (uniform_blocks.h).
   DView<float4> blockComposite;
-  DView<uint32_t> blockFrags;
+  DView<uint32_t> blockFrags, walkedBlocks;
+  uint32_t stride = 0;  // the lists' layout (BlendBuffers::listStride)
+  // Whether this instance writes the bytes where the plan asks it to
+  // (blendResolveEncodes): on a GPU the glTF shading's, whose uniform
+  // blocks' pixels a light kernel of their own writes.
+  static constexpr bool kEncodes = kBlendResolveEncodes || kFam == kFragPbr;
 
   // Sample s of S of pixel px: what lies in front (acc, transmittance T)
   // over the opaque colour in the film; with several samples their running
   // sum, averaged into the film at the last. Where the resolve encodes, the
-  // pixel's bytes too (encodeFilm: postEncode's; only CPUs do,
-  // kBlendResolveEncodes). Every form of the resolve ends a sample here
+  // pixel's bytes too (encodeFilm: postEncode's; kEncodes). Every form of the resolve ends a sample here
   // (the block walk with filmValue's arithmetic).
   RAST_GPU_INLINE void filmSample(const int64_t px, const int s, const int S, const float3 acc, const float T,
                                   float4& sum) const {
     float4 c;
-    if (filmValue(px, s, S, acc, T, sum, c) && kBlendResolveEncodes && encode)
+    if (filmValue(px, s, S, acc, T, sum, c) && kEncodes && encode)
       color(px) = encodeFilm(c, raw != 0, straight != 0, packed);
   }
   // The same but for the bytes: true and the pixel's colour c where it is
@@ -134,6 +139,11 @@ struct Peel {
     }
     hdr(px) = c;
     return true;
+  }
+
+  // Where the list of `block`, n entries long, starts in tileTris.
+  RAST_GPU_INLINE uint32_t listBegin(const int64_t block, const uint32_t n) const {
+    return stride ? uint32_t(block) * stride : tileEnd(block) - n;
   }
 
   // sorted's key: its triangle's, whatever the sample.
@@ -170,7 +180,7 @@ struct Peel {
     const int32_t bx = int32_t(block % blocksX), by = int32_t(block / blocksX);
     // A list that overflowed its capacity is not read: the frame is drawn again.
     const bool listed = totals(kBlendListed) <= tileCapacity;
-    const uint32_t end = listed ? tileEnd(block) : 0u, begin = listed ? end - tileCount(block) : 0u;
+    const uint32_t n = listed ? tileCount(block) : 0u, begin = listed ? listBegin(block, n) : 0u, end = begin + n;
     PeelCache cache;
     if (kPeelRun == 1) {
       const int32_t p = int32_t(item & ((1 << (2 * kItemShift)) - 1));

@@ -259,7 +259,7 @@ struct PeelBlocks {
     if (!(p.totals(kBlendListed) <= p.tileCapacity)) return false;
     n = p.tileCount(block);
     if (n == 0 || n > kBlockOrderMax) return false;
-    const uint32_t begin = p.tileEnd(block) - n;
+    const uint32_t begin = p.listBegin(block, n);
     const int32_t x0 = int32_t(block % p.blocksX) << kItemShift, y0 = int32_t(block / p.blocksX) << kItemShift;
     uint64_t key[kBlockOrderMax];
     for (uint32_t j = 0; j < n; ++j) {

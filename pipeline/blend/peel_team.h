@@ -73,10 +73,10 @@ struct PeelTeam {
   // list, whose entries it then keeps), and counts its fragments into
   // totals(kBlendFrags) with one atomic (a team reduction per block cost
   // more than the resolve's own work on the H100). Where uniform blocks are
-  // taken out first, the walked ones are few and gather (a quad's diagonal):
-  // a team takes every league_size-th block, so that they spread over the
-  // teams. One loop either way: a second loop calling resolveBlock made
-  // the kernel's stack ten times larger on the H200.
+  // taken out first, the team walks only the blocks they list
+  // (walkedBlocks): few, and gathered along the quads' diagonals, so a team
+  // takes every league_size-th. One loop either way: a second loop calling
+  // resolveBlock made the kernel's stack ten times larger on the H200.
   RAST_FLATTEN void operator()(const TeamMember& m) const {
     // inTeamScratch: read with shared loads on CUDA (backends/team_scratch.h).
     Scratch sc;
@@ -88,15 +88,16 @@ struct PeelTeam {
     sc.same = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
     sc.global = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
     constexpr bool kStrided = uniformBlocksFor<kFam, kFeat>();
-    const int64_t per = (blocks + m.league_size() - 1) / m.league_size();
+    const int64_t todo = kStrided ? int64_t(peel.totals(kBlendWalked)) : blocks;
+    const int64_t per = (todo + m.league_size() - 1) / m.league_size();
     const int64_t b0 = kStrided ? m.league_rank() : per * m.league_rank();
-    const int64_t b1 = kStrided ? blocks : (b0 + per < blocks ? b0 + per : blocks);
+    const int64_t b1 = kStrided ? todo : (b0 + per < todo ? b0 + per : todo);
     const int64_t step = kStrided ? m.league_size() : 1;
     uint64_t frags = 0;
     uint32_t held = ~0u;  // the length of the list whose entries the scratch holds (~0u: none)
     if (m.team_rank() == 0) *sc.frags = 0;
     m.team_barrier();  // before any thread adds to it (a run of long lists has no barrier of its own)
-    for (int64_t block = b0; block < b1; block += step) resolveBlock(m, sc, block, held, frags);
+    for (int64_t k = b0; k < b1; k += step) resolveBlock(m, sc, kStrided ? int64_t(peel.walkedBlocks(k)) : k, held, frags);
     if (frags) Kokkos::atomic_add(sc.frags, frags);
     m.team_barrier();
     if (m.team_rank() == 0 && *sc.frags) Kokkos::atomic_add(&peel.totals(kBlendFrags), *sc.frags);
@@ -138,22 +139,8 @@ struct PeelTeam {
     const int32_t bx = int32_t(block % P.blocksX), by = int32_t(block / P.blocksX);
     const int32_t x0 = bx << kItemShift, y0 = by << kItemShift;
     const bool listed = P.totals(kBlendListed) <= P.tileCapacity;  // else the frame is drawn again
-    const uint32_t end = listed ? P.tileEnd(block) : 0u, begin = listed ? end - P.tileCount(block) : 0u;
-    const uint32_t n = end - begin;
+    const uint32_t n = listed ? P.tileCount(block) : 0u, begin = listed ? P.listBegin(block, n) : 0u, end = begin + n;
     const int nThreads = m.team_size(), me = m.team_rank();
-    // Composited and written before the resolve (uniform_blocks.h): only
-    // counted here (by one thread), the scratch left as it is.
-    if constexpr (uniformBlocksFor<kFam, kFeat>()) {
-      const uint32_t u = P.blockFrags(block);  // the same for the whole team
-      if (u != kUniformWalk) {
-        if (me == 0) {
-          const int64_t w = P.width - x0 < (1 << kItemShift) ? P.width - x0 : 1 << kItemShift;
-          const int64_t h = P.height - y0 < (1 << kItemShift) ? P.height - y0 : 1 << kItemShift;
-          P.count(uint64_t(w * h * P.fs.sp.count) * u, u, frags);
-        }
-        return;
-      }
-    }
     if (n > entries) {  // the plain resolve's walk of the global list
       typename Peel<kFam, kFeat>::PeelCache cache;
       for (int p = me; p < kPixels; p += nThreads) {

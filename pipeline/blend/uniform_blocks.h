@@ -5,17 +5,19 @@
 // with one colour (unlit, untextured layers: FragShade::constantColourOf)
 // composites the same fragments in the same order at every sample: the
 // team form's walk would repeat one "over" 64 times a sample. Before the
-// resolve a thread a block decides that and computes the composite once
-// (rast::blend::uniform_blocks); a thread a pixel then writes it over the
-// opaque colour (rast::blend::uniform_pixels), and the team only counts the
-// block's fragments (PeelTeam::resolveBlock). Kernels of their own and not
-// steps of the team: classifying inside the team (a team reduction of the
-// opaque depth and a barrier a block) made the H200's resolve slower, and
-// the team kernel's occupancy (its scratch) is too low for a pass that only
-// streams the film (docs/journal/transparency-2026-11.md). The CPU's block
-// walk decides the same a sample at a time (peel_block.h, PeelBlocks::uniform).
+// resolve a few threads a block (one a list entry) decide that and compute
+// the composite once, counting its fragments, and list the other blocks
+// (rast::blend::uniform_blocks); a thread a pixel then writes the composite
+// over the opaque colour (rast::blend::uniform_pixels), and the team walks
+// only the listed blocks (PeelTeam). Kernels of their own and not steps of
+// the team: classifying inside the team (a team reduction of the opaque
+// depth and a barrier a block) made the H200's resolve slower, and the team
+// kernel's occupancy (its scratch) is too low for a pass that only streams
+// the film (docs/journal/transparency-2026-11.md). The CPU's block walk
+// decides the same a sample at a time (peel_block.h, PeelBlocks::uniform).
 #pragma once
 
+#include "backends/team_scratch.h"
 #include "pipeline/blend/peel.h"
 
 namespace rast {
@@ -33,16 +35,62 @@ constexpr bool uniformBlocksFor() {
   return kFam == kFragPbr && kFeat != shading::kPbrAny;
 }
 
+// A classifying team takes kClassBlocks neighbouring blocks, kClassLanes
+// threads a block. The block's list entries (each a chain of dependent
+// loads: the list, the triangle, its draw and material) and its opaque
+// depths are shared out among its threads, which then rank the entries and
+// test the quads' halves in parallel; one thread composites. A thread a
+// block waited on those chains one entry after another (the blocks on the
+// quads' diagonals, 16 triangles, the longest); more threads a block than
+// four leave a multiprocessor (at this kernel's registers) too few blocks
+// at once for the frame's 32,400.
+constexpr int kClassLanes = 4;
+constexpr int kClassBlocks = 16;
+
 template <int kFam, int kFeat>
 struct UniformBlocks {
   using P = Peel<kFam, kFeat>;
-  P peel;  // writes its blockComposite (acc, T: weighted's after weightedFront) and
-           // blockFrags (the fragments a sample; kUniformWalk where the team walks the list)
+  P peel;  // writes its blockComposite (acc, T: weighted's after weightedFront),
+           // blockFrags (the fragments a sample; kUniformWalk where the team walks
+           // the list) and walkedBlocks (those, totals(kBlendWalked) of them)
+  int64_t blocks;
+
+  // An entry of a block's list, as its thread finds it.
+  struct Entry {
+    uint64_t key;    // its place in the walk's order
+    float col[4];    // its one colour
+    float lo, hi;    // exact and sorted: its depth range; weighted: its one depth (lo)
+    uint32_t tri;    // its raster index
+    uint32_t meta;   // kOpen: the one edge that leaves out some sample, + 1 (else 0); kOk; kPaired
+  };
+  static constexpr uint32_t kOpen = 3u, kOk = 4u, kPaired = 8u;
+  static_assert(kUniformMax % kClassLanes == 0, "a block's threads take its entries in turn");  // kPaired: a quad's half with the next in the order
+  // A team's scratch: per block its entries, its order, its threads' nearest
+  // opaque depths, whether it is walked, its fragments.
+  struct Scratch {
+    Entry* ent;
+    uint8_t* ord;
+    uint32_t* nearest;
+    int32_t* walk;
+    uint64_t* frags;
+  };
+  static constexpr size_t kScratch =
+      kClassBlocks * (kUniformMax * (sizeof(Entry) + 1) + kClassLanes * sizeof(uint32_t) + sizeof(int32_t) +
+                      sizeof(uint64_t)) +
+      64;
+
+  // The block's pixels within the frame: [x0, x1] x [y0, y1].
+  KOKKOS_INLINE_FUNCTION void extent(const int64_t block, int32_t& x0, int32_t& y0, int32_t& x1, int32_t& y1) const {
+    const P& p = peel;
+    x0 = int32_t(block % p.blocksX) << kItemShift;
+    y0 = int32_t(block / p.blocksX) << kItemShift;
+    x1 = x0 + (1 << kItemShift) <= p.width ? x0 + (1 << kItemShift) - 1 : p.width - 1;
+    y1 = y0 + (1 << kItemShift) <= p.height ? y0 + (1 << kItemShift) - 1 : p.height - 1;
+  }
 
   // The edges of e that leave out some sample of the pixels [x0, x1] x
-  // [y0, y1] (the block's within the frame), bit k for edge k: an edge
-  // function is linear, so its least value over them is at a corner pixel
-  // (exact integers, Edges::inside's test).
+  // [y0, y1], bit k for edge k: an edge function is linear, so its least
+  // value over them is at a corner pixel (exact integers, Edges::inside's test).
   KOKKOS_INLINE_FUNCTION static uint32_t openEdges(const Edges& e, const int32_t x0, const int32_t y0,
                                                    const int32_t x1, const int32_t y1, const SamplePattern& sp) {
     uint32_t open = 0;
@@ -55,22 +103,38 @@ struct UniformBlocks {
     return open;
   }
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int64_t block) const {
-    peel.blockFrags(block) = kUniformWalk;
+  // The list of `block` where the block may be uniform: begin and n (at
+  // most kUniformMax); false where the team walks it.
+  KOKKOS_INLINE_FUNCTION bool listOf(const int64_t block, uint32_t& begin, uint32_t& n) const {
+    const P& p = peel;
+    n = 0;
+    if (block >= blocks || p.totals(kBlendListed) > p.tileCapacity) return false;  // else the frame is drawn again
+    n = p.tileCount(block);
+    begin = p.listBegin(block, n);
+    return n <= kUniformMax;
+  }
+
+  // Thread j of block b: entries j, j + kClassLanes, ... of its list (each
+  // triangle: one colour; every sample taken in but across at most one
+  // edge; exact and sorted its whole depth range, depthBounds; weighted
+  // parallel to the image, one depth and so one weight; its key in the
+  // walk's order), and the nearest opaque depth of rows j, j + kClassLanes,
+  // ... of the block.
+  KOKKOS_INLINE_FUNCTION void entries(const Scratch& sc, const int b, const int64_t block, const int j) const {
+    if (j == 0) sc.walk[b] = 0;
+    uint32_t begin, n;
+    const bool may = listOf(block, begin, n);
+    if (!may) {
+      if (j == 0) sc.walk[b] = 1;
+      return;
+    }
     const P& p = peel;
     const FragShade& fs = p.fs;
-    const bool listed = p.totals(kBlendListed) <= p.tileCapacity;  // else the frame is drawn again
-    if (!listed) return;
-    const uint32_t end = p.tileEnd(block), n = p.tileCount(block), begin = end - n;
-    if (n > kUniformMax) return;
-    const int32_t x0 = int32_t(block % p.blocksX) << kItemShift, y0 = int32_t(block / p.blocksX) << kItemShift;
-    const int32_t x1 = x0 + (1 << kItemShift) <= p.width ? x0 + (1 << kItemShift) - 1 : p.width - 1;
-    const int32_t y1 = y0 + (1 << kItemShift) <= p.height ? y0 + (1 << kItemShift) - 1 : p.height - 1;
+    int32_t x0, y0, x1, y1;
+    extent(block, x0, y0, x1, y1);
     const int S = fs.sp.count;
-    // The nearest opaque depth of the block's samples in the frame: a row's
-    // eight loads at once (unrolled), a row after another.
     uint32_t nearest = ~0u;
-    for (int32_t Y = y0; Y <= y1; ++Y)
+    for (int32_t Y = y0 + j; Y <= y1; Y += kClassLanes)
       for (int s = 0; s < S; ++s) {
         const int64_t row = (int64_t(Y) * p.width + x0) * S + s;
 #if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
@@ -81,101 +145,193 @@ struct UniformBlocks {
           nearest = o < nearest ? o : nearest;
         }
       }
-    // Each triangle: one colour, in front (exact and sorted: its whole depth
-    // range, depthBounds; weighted: parallel to the image, one depth and so
-    // one weight, kept in lo), every sample taken in but across at most one
-    // edge (2 bits of `open`: that edge + 1, else 0); its key in the walk's
-    // order. The arrays are the thread's stack, which the loads of a
-    // multiprocessor's threads share its L1 with: kept small.
-    uint64_t key[kUniformMax];
-    float4 col[kUniformMax];
-    float lo[kUniformMax], hi[kUniformMax];
-    uint32_t open = 0;
-    // No early exit: without one the compiler overlaps several triangles'
-    // loads (latency, not arithmetic, is this kernel's cost).
-    bool ok = true;
+    sc.nearest[b * kClassLanes + j] = nearest;
+    if (n == 0) return;
+    Entry* ent = sc.ent + b * kUniformMax;
+    // Every thread takes kUniformMax / kClassLanes entries, those past the
+    // list the last one again (not written), so that the code has no branch
+    // and the compiler overlaps their loads (latency, not arithmetic, is
+    // this kernel's cost).
 #if defined(__CUDA_ARCH__) || defined(__HIP_DEVICE_COMPILE__)
-#pragma unroll 4
+#pragma unroll
 #endif
-    for (uint32_t j = 0; j < n; ++j) {
-      const uint32_t i = p.tileTris(begin + j);
-      const bool one = fs.template constantColourOf<kFam, kFeat>(i, col[j]);
+    for (uint32_t k = 0; k < kUniformMax / kClassLanes; ++k) {
+      const uint32_t e = uint32_t(j) + k * kClassLanes, at = e < n ? e : n - 1;
+      const uint32_t i = p.tileTris(begin + at);
+      float4 c{0.0f, 0.0f, 0.0f, 0.0f};
+      const bool one = fs.template constantColourOf<kFam, kFeat>(i, c);
       const RasterTri& t = fs.sc.tris(i);
       const uint32_t o = openEdges(Edges(t), x0, y0, x1, y1, fs.sp);
-      ok = ok && one && !(o & (o - 1));  // two edges or three open: a corner of it in the block
-      open |= (o ? (o == 1u ? 1u : o == 2u ? 2u : 3u) : 0u) << (2 * j);
+      bool ok = one && !(o & (o - 1));  // two edges or three open: a corner of it in the block
+      Entry en;
+      en.col[0] = c.x;
+      en.col[1] = c.y;
+      en.col[2] = c.z;
+      en.col[3] = c.w;
+      en.tri = i;
       if (p.weighted) {
         const DepthTerms dz(t);
         // DepthTerms::at with d1 = d2 = 0 is z0 + (+-0): z0 itself where z0 > 0.
-        lo[j] = clamp01(dz.z0);
-        ok = ok && dz.d1 == 0.0f && dz.d2 == 0.0f && dz.z0 > 0.0f && floatBits(lo[j]) < nearest;
-        key[j] = i;  // raster-index order, in which the sums add
+        en.lo = clamp01(dz.z0);
+        en.hi = 0.0f;
+        ok = ok && dz.d1 == 0.0f && dz.d2 == 0.0f && dz.z0 > 0.0f;
+        en.key = i;  // raster-index order, in which the sums add
       } else {
-        const DepthBounds b = depthBounds(t);
-        ok = ok && blockInFront(b.lo, b.hi, nearest);
-        lo[j] = b.lo;
-        hi[j] = b.hi;
+        const DepthBounds z = depthBounds(t);
+        en.lo = z.lo;
+        en.hi = z.hi;
         // The team's keys (PeelTeam::resolveBlock), the list's place r in
         // raster-index order replaced by the raster index: the same order.
-        key[j] = p.sorted ? (p.sortedKeyOf(i) & ~uint64_t(0xffffffffu)) | uint64_t(0xffffffffu - i)
-                          : uint64_t(orderBits(b.lo)) << 32 | i;
+        en.key = p.sorted ? (p.sortedKeyOf(i) & ~uint64_t(0xffffffffu)) | uint64_t(0xffffffffu - i)
+                          : uint64_t(orderBits(z.lo)) << 32 | i;
       }
+      en.meta = (o ? (o == 1u ? 1u : o == 2u ? 2u : 3u) : 0u) | (ok ? kOk : 0u);
+      if (e < n) ent[e] = en;
     }
-    if (!ok) return;
-    uint8_t ord[kUniformMax];
-    for (uint32_t j = 0; j < n; ++j) {
-      uint32_t k = j;
-      for (; k > 0 && key[ord[k - 1]] > key[j]; --k) ord[k] = ord[k - 1];
-      ord[k] = uint8_t(j);
+  }
+
+  // Thread j of block b: its entries in front of the block's nearest opaque
+  // depth (else the block is walked), and their places in the order.
+  KOKKOS_INLINE_FUNCTION void rank(const Scratch& sc, const int b, const int64_t block, const int j) const {
+    if (sc.walk[b]) return;
+    const P& p = peel;
+    const uint32_t n = p.tileCount(block);
+    const Entry* ent = sc.ent + b * kUniformMax;
+    uint32_t nearest = ~0u;
+    for (int k = 0; k < kClassLanes; ++k) {
+      const uint32_t o = sc.nearest[b * kClassLanes + k];
+      nearest = o < nearest ? o : nearest;
     }
-    // The walk of one sample in that order (the team's pixelInOrder and
-    // pixelWeighted), once, a unit at a time: a triangle, or a triangle
-    // open across one edge and the next in the order, open across the same
-    // edge reversed (sharedEdge), of the same colour (weighted: depth): a
-    // quad's two halves. Each sample then lies inside the pair's four outer
-    // edges and the shared one gives it to exactly one half: one fragment of
-    // the pair's colour at every sample, in the pair's place. (Halves apart
-    // in the order: another triangle's fragment would fall between them at
-    // some samples.) exact: one order at every sample only where each
-    // unit's range (a pair's: their union) ends before the next begins (the
-    // team's orderEntries).
+    for (uint32_t e = uint32_t(j); e < n; e += kClassLanes) {
+      const Entry& en = ent[e];
+      if (!(en.meta & kOk) || !(p.weighted ? floatBits(en.lo) < nearest : blockInFront(en.lo, en.hi, nearest)))
+        sc.walk[b] = 1;
+      uint32_t r = 0;  // the keys are unique (they end in the raster index)
+      for (uint32_t k = 0; k < n; ++k) r += ent[k].key < en.key ? 1u : 0u;
+      sc.ord[b * kUniformMax + r] = uint8_t(e);
+    }
+  }
+
+  // Thread j of block b: whether the entries at places j, j + kClassLanes,
+  // ... open across one edge are a quad's half with the next in the order:
+  // open across the same edge reversed (sharedEdge), of the same colour
+  // (weighted: depth). Each sample then lies inside the pair's four outer
+  // edges and the shared one gives it to exactly one half: one fragment of
+  // the pair's colour at every sample, in the pair's place. (Halves apart
+  // in the order: another triangle's fragment would fall between them at
+  // some samples.)
+  KOKKOS_INLINE_FUNCTION void pair(const Scratch& sc, const int b, const int64_t block, const int j) const {
+    if (sc.walk[b]) return;
+    const P& p = peel;
+    const uint32_t n = p.tileCount(block);
+    Entry* ent = sc.ent + b * kUniformMax;
+    const uint8_t* ord = sc.ord + b * kUniformMax;
+    for (uint32_t r = uint32_t(j); r + 1 < n; r += kClassLanes) {
+      Entry& a = ent[ord[r]];
+      const Entry& c = ent[ord[r + 1]];
+      const uint32_t oa = a.meta & kOpen, oc = c.meta & kOpen;
+      if (!oa || !oc) continue;
+      const int32_t e = sharedEdge(p.fs.sc.tris(a.tri), p.fs.sc.tris(c.tri));
+      if (e < 0 || uint32_t(e / 3) + 1 != oa || uint32_t(e % 3) + 1 != oc) continue;
+      bool same = true;
+      for (int k = 0; k < 4; ++k) same = same && floatBits(a.col[k]) == floatBits(c.col[k]);
+      if (same && (!p.weighted || floatBits(a.lo) == floatBits(c.lo))) a.meta |= kPaired;
+    }
+  }
+
+  // The composite of block b in `out` (the team's pixelInOrder and
+  // pixelWeighted at one sample, once), a unit at a time: a triangle, or a
+  // quad's two halves; and its fragments a sample (kUniformWalk: walked).
+  // exact: one order at every sample only where each unit's range (a
+  // pair's: their union) ends before the next begins (the team's orderEntries).
+  KOKKOS_INLINE_FUNCTION uint32_t composite(const Scratch& sc, const int b, const int64_t block, float4& out) const {
+    if (sc.walk[b]) return kUniformWalk;
+    const P& p = peel;
+    const uint32_t n = p.tileCount(block);
+    const Entry* ent = sc.ent + b * kUniformMax;
+    const uint8_t* ord = sc.ord + b * kUniformMax;
     float3 acc{0.0f, 0.0f, 0.0f};
     float T = 1.0f;
     float4 w{0.0f, 0.0f, 0.0f, 0.0f};
     float reveal = 1.0f, before = 0.0f;
     uint32_t units = 0;
     for (uint32_t t = 0; t < n; ++units) {
-      const uint32_t j = ord[t], oj = (open >> (2 * j)) & 3u;
-      float l = lo[j], h = p.weighted ? 0.0f : hi[j];
-      if (oj) {
-        if (t + 1 >= n) return;
-        const uint32_t q = ord[t + 1], oq = (open >> (2 * q)) & 3u;
-        const int32_t e = oq ? sharedEdge(fs.sc.tris(p.tileTris(begin + j)), fs.sc.tris(p.tileTris(begin + q))) : -1;
-        if (e < 0 || uint32_t(e / 3) + 1 != oj || uint32_t(e % 3) + 1 != oq) return;
-        if (floatBits(col[j].x) != floatBits(col[q].x) || floatBits(col[j].y) != floatBits(col[q].y) ||
-            floatBits(col[j].z) != floatBits(col[q].z) || floatBits(col[j].w) != floatBits(col[q].w))
-          return;
-        if (p.weighted) {
-          if (floatBits(lo[j]) != floatBits(lo[q])) return;
-        } else {  // (no NaN: blockInFront)
-          l = lo[q] < l ? lo[q] : l;
-          h = hi[q] > h ? hi[q] : h;
-        }
+      const Entry& a = ent[ord[t]];
+      float l = a.lo, h = a.hi;
+      if (a.meta & kOpen) {
+        if (!(a.meta & kPaired)) return kUniformWalk;
+        const Entry& c = ent[ord[t + 1]];  // (no NaN: blockInFront)
+        l = c.lo < l ? c.lo : l;
+        h = c.hi > h ? c.hi : h;
         t += 2;
       } else {
         t += 1;
       }
+      const float4 col{a.col[0], a.col[1], a.col[2], a.col[3]};
       if (p.weighted) {
-        if (col[j].w > 0.0f) weightedTerms(w, reveal, col[j], fs.weight(l));
+        if (col.w > 0.0f) weightedTerms(w, reveal, col, p.fs.weight(l));
         continue;
       }
-      if (!p.sorted && units > 0 && !(before < l)) return;  // ranges overlap (or NaN)
+      if (!p.sorted && units > 0 && !(before < l)) return kUniformWalk;  // ranges overlap (or NaN)
       before = h;
-      if (T > 0.0f && col[j].w > 0.0f) over(acc, T, col[j]);
+      if (T > 0.0f && col.w > 0.0f) over(acc, T, col);
     }
     if (p.weighted) weightedFront(w, reveal, acc, T);
-    p.blockComposite(block) = float4{acc.x, acc.y, acc.z, T};
+    out = float4{acc.x, acc.y, acc.z, T};
+    return units;
+  }
+
+  // Block b's result: its composite and count, or its place among the
+  // walked blocks (their order depends on the thread schedule; each is
+  // resolved alone, so the film does not). Its fragments: the statistics.
+  KOKKOS_INLINE_FUNCTION uint64_t finish(const Scratch& sc, const int b, const int64_t block) const {
+    if (block >= blocks) return 0;
+    const P& p = peel;
+    float4 out;
+    const uint32_t units = composite(sc, b, block, out);
     p.blockFrags(block) = units;
+    if (units == kUniformWalk) {
+      p.walkedBlocks(Kokkos::atomic_fetch_add(&p.totals(kBlendWalked), uint64_t(1))) = uint32_t(block);
+      return 0;
+    }
+    p.blockComposite(block) = out;
+    int32_t x0, y0, x1, y1;
+    extent(block, x0, y0, x1, y1);
+    uint64_t frags = 0;
+    p.count(uint64_t(x1 - x0 + 1) * uint64_t(y1 - y0 + 1) * uint64_t(p.fs.sp.count) * units, units, frags);
+    return frags;
+  }
+
+  // The team's steps, a barrier apart; its blocks' fragments added to
+  // totals(kBlendFrags) with one atomic.
+  KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
+    Scratch sc;
+    sc.ent = inTeamScratch(static_cast<Entry*>(
+        m.team_scratch(0).get_shmem_aligned(kClassBlocks * kUniformMax * sizeof(Entry), alignof(Entry))));
+    sc.frags = inTeamScratch(static_cast<uint64_t*>(m.team_scratch(0).get_shmem_aligned(kClassBlocks * sizeof(uint64_t), 8)));
+    sc.nearest = inTeamScratch(static_cast<uint32_t*>(m.team_scratch(0).get_shmem(kClassBlocks * kClassLanes * sizeof(uint32_t))));
+    sc.walk = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(kClassBlocks * sizeof(int32_t))));
+    sc.ord = inTeamScratch(static_cast<uint8_t*>(m.team_scratch(0).get_shmem(kClassBlocks * kUniformMax)));
+    const int64_t first = int64_t(m.league_rank()) * kClassBlocks;
+    const auto each = [&](auto&& step) {  // every (block, thread) of the team
+      for (int t = m.team_rank(); t < kClassBlocks * kClassLanes; t += m.team_size())
+        step(t / kClassLanes, first + t / kClassLanes, t % kClassLanes);
+    };
+    each([&](const int b, const int64_t block, const int j) { entries(sc, b, block, j); });
+    m.team_barrier();
+    each([&](const int b, const int64_t block, const int j) { rank(sc, b, block, j); });
+    m.team_barrier();
+    each([&](const int b, const int64_t block, const int j) { pair(sc, b, block, j); });
+    m.team_barrier();
+    each([&](const int b, const int64_t block, const int j) {
+      if (j == 0) sc.frags[b] = finish(sc, b, block);
+    });
+    m.team_barrier();
+    if (m.team_rank() == 0) {
+      uint64_t sum = 0;
+      for (int b = 0; b < kClassBlocks; ++b) sum += sc.frags[b];
+      if (sum) Kokkos::atomic_add(&peel.totals(kBlendFrags), sum);
+    }
   }
 };
 

@@ -18,7 +18,8 @@ enum BlendTotal : int {
   kBlendMaxDepth = 3, // most fragments of one sample (the depth complexity `auto` reads)
   kBlendListed = 4,   // entries of the tile lists this frame (their need)
   kBlendLongest = 5,  // the longest tile list this frame (the next frame's team scratch)
-  kNumBlendTotals = 6
+  kBlendWalked = 6,   // the team form under the glTF shading: the blocks in walkedBlocks
+  kNumBlendTotals = 7
 };
 
 struct BlendBuffers {
@@ -31,10 +32,14 @@ struct BlendBuffers {
   // (shading clears the visibility buffer before the resolve reads them)
   DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
   // The team form under the glTF shading (pipeline/blend/uniform_blocks.h):
-  // per 8x8 block the composite where it is uniform, and its fragments a sample
+  // per 8x8 block the composite where it is uniform, and its fragments a
+  // sample; the blocks that the team walks (totals(kBlendWalked) of them)
   DView<float4> blockComposite;
-  DView<uint32_t> blockFrags;
+  DView<uint32_t> blockFrags, walkedBlocks;
   uint64_t tileCapacity = 0;
+  // The frame's layout of the lists: 0 counted (a block's list ends at
+  // tileEnd), else strided (it starts at block x listStride; listStrideFor)
+  uint32_t listStride = 0;
   uint64_t longestList = 0;  // the last frame's kBlendLongest, read on the host (the resolve's scratch size)
   // kbuffer: k keys per sample, nearest first
   DView<uint64_t> slots;
@@ -48,7 +53,7 @@ struct BlendBuffers {
   size_t bytes() const {
     return viewBytes(totals) + viewBytes(maskStart) + viewBytes(blendStart) + viewBytes(tileCount) + viewBytes(tileEnd) +
            viewBytes(tileTris) + viewBytes(opaque) + viewBytes(blockComposite) +
-           viewBytes(blockFrags) + viewBytes(slots) + viewBytes(accum) + viewBytes(reveal);
+           viewBytes(blockFrags) + viewBytes(walkedBlocks) + viewBytes(slots) + viewBytes(accum) + viewBytes(reveal);
   }
 };
 

@@ -49,6 +49,10 @@ struct TestHooks {
   // resolve as it writes the film (BlendPlan::encode), so that the two are
   // checked against each other.
   bool chainEncode = false;
+  // > 0: the tile lists take the strided layout with this stride wherever
+  // the last frame's lists fit it (a GPU's, kBlendListStride) on any
+  // backend; 0: as the backend decides.
+  uint32_t listStride = 0;
 
   // The values as bytes, for the frame plan's key.
   std::string key() const;

@@ -136,16 +136,17 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   p.blend.lists = walksTileLists(p.blend.method, in.blendFallback);
   // A transparent background (alpha < 1): the film keeps alpha, premultiplied.
   p.film = p.film || (in.blendFilm && p.fill) || rs.background.w < 1.0f;
-  // The tile lists' resolve writes every pixel of the film last: where no
-  // post pass, float output, supersampling or split reads the film after it,
-  // it writes the colour's bytes too and the post chain does not run, where
-  // that is faster (kBlendResolveEncodes: CPUs).
-  p.blend.encode = kBlendResolveEncodes && p.blend.blend && p.blend.lists && !rs.post.needsFloat() &&
-                   !in.supersampling && !in.keepKeys && !rs.keysOnly && !testHooks().chainEncode;
   p.blend.raw = isRawShading(rs.shading);
   p.blend.straight = rs.background.w < 1.0f;
   p.lines = makeLinePass(*in.scene, rs);
   p.shadeParams = shadeParamsFor(rs, f, p);
+  // The tile lists' resolve writes every pixel of the film last: where no
+  // post pass, float output, supersampling or split reads the film after it,
+  // it writes the colour's bytes too and the post chain does not run, where
+  // that is faster (blendResolveEncodes).
+  p.blend.encode = p.blend.blend && p.blend.lists && !rs.post.needsFloat() &&
+                   !in.supersampling && !in.keepKeys && !rs.keysOnly && !testHooks().chainEncode &&
+                   blendResolveEncodes(p.shadeParams);
   // On the CPU the binned raster can shade each tile as it finishes: the
   // shade stage's time is then part of the raster's.
   const bool linesOrPoints = p.lines.lineItems() + p.lines.pointItems() > 0;
@@ -158,14 +159,19 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
     p.shade = ShadePath::Spans;
   else
     p.shade = ShadePath::Pixels;
+  // The per-pixel glTF kernel writes the opaque depth for the tile lists'
+  // resolve as it clears the keys; not under a split, whose resolve reads
+  // the composited keys' depth.
+  p.blend.shadeDepth = p.blend.blend && p.blend.lists && p.shade == ShadePath::Pixels && !in.keepKeys &&
+                       shadeWritesOpaqueDepth(p.shadeParams, p.samples);
 
   // Everything the frame's launches depend on besides device memory: a
   // recorded frame is replayed only under the same key (frame_graphs.h).
   p.key = settingsKey(rs) + testHooks().key();
   for (uint64_t v : {uint64_t(p.method), uint64_t(p.autoStats), uint64_t(p.occluders), uint64_t(p.rowLanes),
                      uint64_t(f.visClear), uint64_t(in.supersampling), uint64_t(f.triCapacity), uint64_t(f.workCapacity),
-                     uint64_t(p.blend.method), uint64_t(p.blend.lists), uint64_t(p.blend.encode), f.blend.tileCapacity,
-                     p.blend.blend ? blendLaunchKey(f) : 0})
+                     uint64_t(p.blend.method), uint64_t(p.blend.lists), uint64_t(p.blend.encode),
+                     uint64_t(p.blend.shadeDepth), f.blend.tileCapacity, p.blend.blend ? blendLaunchKey(f) : 0})
     p.key.append(reinterpret_cast<const char*>(&v), sizeof v);
   return p;
 }

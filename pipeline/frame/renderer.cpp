@@ -339,7 +339,9 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
 
   Kokkos::Profiling::pushRegion("rast::shade");
   switch (plan.shade) {
-    case ShadePath::Pixels: shadeStage(scene_, frame_, plan.shadeParams, lights_); break;
+    case ShadePath::Pixels:
+      shadeStage(scene_, frame_, plan.shadeParams, lights_, plan.blend.shadeDepth ? frame_.blend.opaque : DView<uint32_t>());
+      break;
     case ShadePath::Spans: shadeSpansStage(scene_, frame_, plan.shadeParams, lights_); break;
     case ShadePath::FusedBinned: break;  // shaded with the raster
     case ShadePath::None: break;         // the keys are the output (the caller clears none: visClear is false)
@@ -434,6 +436,17 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
   // its fixed-memory sums; FrameStats::blendFallback says so), whose fixed
   // buffers must fit.
   if (fit && plan_.blend.blend) {
+    // The lists' buffer reallocated for `need` entries, where the budget holds them.
+    const auto growLists = [&](const uint64_t need) {
+      MemoryLedger ledger(budget_);
+      ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.blend.tileTris));
+      if (need >= (uint64_t(1) << 32) || addSat(ledger.used(), mulSat(need, kBytesPerListEntry)) > ledger.limit())
+        return false;
+      frame_.blend.tileTris = DView<uint32_t>();
+      frame_.blend.tileCapacity = need;
+      frame_.blend.tileTris = allocUninit<uint32_t>("blend.tileTris", need);
+      return true;
+    };
     auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), frame_.blend.totals);
     const bool listed = plan_.blend.lists;
     if (listed) {
@@ -446,18 +459,14 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
       stats->transparency = plan_.blend.method;
       stats->blendFallback = blendFallback_;
     }
-    if (listed && t(kBlendListed) > frame_.blend.tileCapacity) {
+    if (listed && frame_.blend.listStride && t(kBlendLongest) > frame_.blend.listStride) {
+      fit = false;  // a list outgrew the strided layout's room: drawn again, counted (listStrideFor)
+    } else if (listed && t(kBlendListed) > frame_.blend.tileCapacity) {
       const uint64_t need = t(kBlendListed) + t(kBlendListed) / 8;
-      MemoryLedger ledger(budget_);
-      ledger.charge("the scene and frame buffers", deviceBytes() - viewBytes(frame_.blend.tileTris));
-      if (need < (uint64_t(1) << 32) && addSat(ledger.used(), mulSat(need, kBytesPerListEntry)) <= ledger.limit()) {
-        frame_.blend.tileTris = DView<uint32_t>();
-        frame_.blend.tileCapacity = need;
-        frame_.blend.tileTris = allocUninit<uint32_t>("blend.tileTris", need);
-      } else {
+      if (!growLists(need)) {
         blendFallback_ = true;
         frame_.blend.tileTris = frame_.blend.tileCount = frame_.blend.tileEnd = frame_.blend.opaque = DView<uint32_t>();
-        frame_.blend.blockFrags = DView<uint32_t>();
+        frame_.blend.blockFrags = frame_.blend.walkedBlocks = DView<uint32_t>();
         frame_.blend.blockComposite = DView<float4>();
         frame_.blend.tileCapacity = 0;
         BlendPlan k = plan_.blend;
@@ -472,6 +481,10 @@ bool Renderer::lastFrameFit(FrameStats* stats) {
       }
       fit = false;
     }
+    // The strided layout's room for the next frames, where their lists
+    // (this frame's, which fitted) allow it and the budget holds it.
+    const uint64_t room = stridedListRoom(frame_);
+    if (fit && listed && room > frame_.blend.tileCapacity) growLists(room);  // else counted
   }
   // The binned method's list has its own capacity (its count is only valid
   // when every raster triangle was kept).
@@ -504,8 +517,10 @@ FrameStats Renderer::render(const Camera& cam, const RenderSettings& rs) {
       st.attempts = attempt;
       return st;
     }
-    // Counters are deterministic, so the second attempt always fits.
-    if (attempt >= 3) throw Error("internal: frame buffers did not converge");
+    // Counters are deterministic: each buffer grows at most once (the
+    // raster triangles, whose overflow hides the rest, then the tile lists),
+    // and a strided layout's overflow is drawn again counted.
+    if (attempt >= 4) throw Error("internal: frame buffers did not converge");
   }
 }
 

@@ -408,6 +408,7 @@ struct ShadePbr {
   KOKKOS_FORCEINLINE_FUNCTION void single(const int64_t i, const int32_t X, const int32_t Y, PbrFrag& q,
                                           const uint64_t key0) const {
     if (k.clearVis && key0 != kClearKey) k.vis(i) = kClearKey;
+    if (k.opaqueDepth.data()) k.opaqueDepth(i) = uint32_t(key0 >> 32);  // (the listed BLEND methods')
     k.resetBlock(X, Y);
     k.writeIds(i, key0);
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);

@@ -41,7 +41,14 @@ struct ShadeParams {
   EnvironmentGPU env;
 };
 
-void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights);
+// opaqueDepth, where given (shadeWritesOpaqueDepth): each sample's depth
+// bits, written as its key is read and cleared.
+void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
+                const DView<uint32_t>& opaqueDepth = DView<uint32_t>());
+// Whether shadeStage's kernel for p can write the opaque depth (the glTF
+// shading's kernel, one sample), which the listed transparency methods
+// then need not copy out of the keys before shading clears them.
+bool shadeWritesOpaqueDepth(const ShadeParams& p, int samples);
 
 // Whether a frame of p with `samples` coverage samples a pixel is shaded by a
 // kernel launched lightweight: the lit kernel (Lambert or Blinn-Phong straight

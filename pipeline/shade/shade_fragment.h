@@ -147,6 +147,7 @@ struct Shade {
   int32_t height = 0;
   int32_t interleaved = 0;  // GPU layout of work items (ShadeInterleaved) instead of runs along rows
   DView<uint32_t> blockFrame{};  // FrameBuffers::blockFrame, read when p.blockFrames
+  DView<uint32_t> opaqueDepth{};  // where set, each sample's depth bits (shadeWritesOpaqueDepth)
   DView<uint32_t> blockDepth{};  // FrameBuffers::blockDepth, reset with the keys when resetBlocks
   int32_t blocksPerRow = 0, resetBlocks = 0;
 

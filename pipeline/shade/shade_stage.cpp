@@ -203,8 +203,15 @@ bool shadeLaunchesLightweight(const ShadeParams& p, int samples) {
   return (interleaved && k.litOnly() && !testHooks().generalShade) || takesPbrKernel(p, samples, interleaved);
 }
 
-void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights) {
-  const Shade k = makeShade(s, f, p, lights);
+bool shadeWritesOpaqueDepth(const ShadeParams& p, int samples) {
+  const int run = p.shadeRun > 0 ? p.shadeRun : kShadeRun;
+  return takesPbrKernel(p, samples, interleavedLayout(run, samples));
+}
+
+void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
+                const DView<uint32_t>& opaqueDepth) {
+  Shade k = makeShade(s, f, p, lights);
+  k.opaqueDepth = opaqueDepth;  // (asked only where shadeWritesOpaqueDepth, launchShade's own choice)
   launchShade(k, Range(0, k.workItems()));
   f.visClear = true;
 }

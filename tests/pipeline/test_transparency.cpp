@@ -429,6 +429,113 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   CHECK(sameBits(first, r.filmBottomUp()));
 }
 
+TEST_CASE("BLEND: the strided tile lists give the counted lists' bits", "[transparency][blend]") {
+  // Where the last frame's lists were short, a GPU lays a block's list out
+  // at block x stride and fills it in one pass (blend_tiles.cpp,
+  // listStrideFor); TestHooks::listStride takes that layout here. The
+  // first frame is counted (it finds the lists' lengths), the second
+  // strided: the same bits and statistics as a counted frame, in the
+  // plain and the team form, for separate, hidden, intersecting and 40
+  // intersecting layers (their diagonals' 80 entries outgrow the room:
+  // counted again), exact, sorted and weighted, Lambert and the glTF
+  // shading, one and four samples, a frame not a multiple of 8.
+  struct Stride {
+    explicit Stride(uint32_t s) { testHooks().listStride = s; }
+    ~Stride() { testHooks().listStride = 0; }
+  };
+  struct Team {
+    explicit Team(bool on) { testHooks().teamResolve = on; }
+    ~Team() { testHooks().teamResolve = false; }
+  };
+  for (const char* name : {"builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&occluder=1",
+                           "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1"}) {
+    const Scene s = builtinScene(name);
+    for (bool team : {false, true})
+      for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::Pbr})
+        for (int msaa : {1, 4})
+          for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
+            INFO(name << " team " << team << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
+            Team g(team);
+            RenderSettings rs = small(93, 53);
+            rs.shading = mode;
+            rs.msaa = msaa;
+            rs.transparency = t;
+            FrameStats counted;
+            const std::vector<rast::float4> want = film(s, rs, &counted);
+            Stride h(32);
+            Renderer r(s);
+            r.render(defaultCamera(s), rs);
+            CHECK(r.frameBuffers().blend.listStride == 0);  // the first frame counts
+            const FrameStats got = r.render(defaultCamera(s), rs);
+            CHECK(r.frameBuffers().blend.listStride == (r.frameBuffers().blend.longestList <= 32 ? 32u : 0u));
+            CHECK(sameBits(want, r.filmBottomUp()));
+            CHECK(got.blendFragments == counted.blendFragments);
+            CHECK(got.blendMaxDepth == counted.blendMaxDepth);
+          }
+  }
+  // Lists that outgrow the room of a frame whose last frame's were short
+  // (looking away: none): the frame is drawn again, counted.
+  const Scene s = builtinScene("builtin:layers?n=8&mixed=1");
+  RenderSettings rs = small(93, 53);
+  rs.transparency = Transparency::Exact;
+  const std::vector<rast::float4> want = film(s, rs);
+  Stride h(4);
+  Renderer r(s);
+  Camera away = defaultCamera(s);
+  away.target = away.eye + (away.eye - away.target);
+  r.render(away, rs);
+  r.render(away, rs);
+  CHECK(r.frameBuffers().blend.listStride == 4);
+  const FrameStats st = r.render(defaultCamera(s), rs);
+  CHECK(st.attempts >= 2);  // (then the counted lists may need more room: a third)
+  CHECK(r.frameBuffers().blend.listStride == 0);
+  CHECK(sameBits(want, r.filmBottomUp()));
+}
+
+TEST_CASE("BLEND: the glTF shading's kernel writes the opaque depth that the resolve reads", "[transparency][blend]") {
+  // The glTF shading's kernel at one sample writes each sample's opaque
+  // depth as it reads and clears its key (BlendPlan::shadeDepth), and the
+  // tile lists' stage copies none; the general kernel (a CPU's at a pixel a
+  // work item, TestHooks::shadeRun = 1) and MSAA keep the copy. The same
+  // bits and statistics: layers with an occluder (the resolve compares each
+  // fragment with that depth), intersecting ones, a cut-out quad, exact,
+  // sorted and weighted, with and without the team form.
+  struct PerPixel {
+    PerPixel() { testHooks().shadeRun = 1; }
+    ~PerPixel() { testHooks().shadeRun = 0; }
+  };
+  struct Team {
+    explicit Team(bool on) { testHooks().teamResolve = on; }
+    ~Team() { testHooks().teamResolve = false; }
+  };
+  for (const char* name : {"builtin:layers?n=8&mixed=1&occluder=1", "builtin:layers?n=12&mixed=1&cross=1&unlit=0",
+                           "builtin:cutout?blend=1"}) {
+    const Scene s = builtinScene(name);
+    for (bool team : {false, true})
+      for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
+        INFO(name << " team " << team << " method " << int(t));
+        Team h(team);
+        RenderSettings rs = small(93, 53);
+        rs.shading = ShadingMode::Pbr;
+        rs.transparency = t;
+        FrameStats copied, written;
+        Renderer a(s);
+        written = a.render(defaultCamera(s), rs);
+        CHECK(a.lastPlan().blend.shadeDepth);
+        PerPixel g;
+        Renderer b(s);
+        copied = b.render(defaultCamera(s), rs);
+        CHECK(b.lastPlan().blend.shadeDepth == kOnDevice);  // (a GPU's run is one pixel anyway)
+        CHECK(sameBits(a.filmBottomUp(), b.filmBottomUp()));
+        CHECK(copied.blendFragments == written.blendFragments);
+        CHECK(copied.blendMaxDepth == written.blendMaxDepth);
+        rs.msaa = 4;  // the kernel of several samples copies
+        a.render(defaultCamera(s), rs);
+        CHECK(!a.lastPlan().blend.shadeDepth);
+      }
+  }
+}
+
 TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled rows' bits", "[transparency][blend]") {
   // A CPU thread resolves an 8x8 block: where the block's triangles keep one
   // order at every sample (sorted always; exact where their depth ranges
