@@ -185,7 +185,7 @@ FragFamily blending::fragFamily(const ShadeParams& p) {
 }
 
 bool blendResolveEncodes(const ShadeParams& p) {
-  return kBlendResolveEncodes || blending::fragFamily(p) == blending::kFragPbr;  // Peel::kEncodes
+  return blending::familyEncodes(blending::fragFamily(p));
 }
 
 bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p) {

@@ -222,7 +222,7 @@ struct TileSort {
       n = 0;
       return nullptr;
     }
-    return tileTris.data() + (stride ? uint64_t(block) * stride : tileEnd(block) - n);
+    return tileTris.data() + listBegin(tileEnd, stride, block, n);
   }
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t block) const {
     uint32_t n;

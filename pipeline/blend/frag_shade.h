@@ -40,6 +40,11 @@ KOKKOS_INLINE_FUNCTION uint32_t orderBits(float v) {
 // the alpha and the colour, with no code for what the frame does not use and
 // nothing whose address is taken (a GPU keeps it all in registers).
 enum FragFamily : int { kFragGeneral, kFragLit, kFragPbr };
+// Whether the tile lists' resolve of a family writes the colour's bytes where
+// the plan asks it to (BlendPlan::encode, blendResolveEncodes): on CPUs every
+// family (kBlendResolveEncodes); on GPUs the glTF shading's, whose uniform
+// blocks' pixels a light kernel of their own writes.
+constexpr bool familyEncodes(const int fam) { return kBlendResolveEncodes || fam == kFragPbr; }
 
 // A pass's per-triangle lookups for the glTF shading (none for the others).
 struct NoPbrTri {};

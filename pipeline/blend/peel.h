@@ -86,6 +86,14 @@ KOKKOS_INLINE_FUNCTION int32_t sharedEdge(const RasterTri& s, const RasterTri& t
 }
 KOKKOS_INLINE_FUNCTION bool edgeNeighbours(const RasterTri& s, const RasterTri& t) { return sharedEdge(s, t) >= 0; }
 
+// Where the list of `block`, n entries long, starts in the lists' buffer:
+// at block x stride in the strided layout, else n before its end
+// (BlendBuffers::listStride).
+KOKKOS_INLINE_FUNCTION uint64_t listBegin(const DView<uint32_t>& tileEnd, const uint32_t stride, const int64_t block,
+                                          const uint32_t n) {
+  return stride ? uint64_t(block) * stride : tileEnd(block) - n;
+}
+
 // The resolve for the frame's fragment family and features (frag_shade.h).
 template <int kFam, int kFeat>
 struct Peel {
@@ -108,10 +116,7 @@ struct Peel {
   DView<float4> blockComposite;
   DView<uint32_t> blockFrags, walkedBlocks;
   uint32_t stride = 0;  // the lists' layout (BlendBuffers::listStride)
-  // Whether this instance writes the bytes where the plan asks it to
-  // (blendResolveEncodes): on a GPU the glTF shading's, whose uniform
-  // blocks' pixels a light kernel of their own writes.
-  static constexpr bool kEncodes = kBlendResolveEncodes || kFam == kFragPbr;
+  static constexpr bool kEncodes = familyEncodes(kFam);
 
   // Sample s of S of pixel px: what lies in front (acc, transmittance T)
   // over the opaque colour in the film; with several samples their running
@@ -141,9 +146,9 @@ struct Peel {
     return true;
   }
 
-  // Where the list of `block`, n entries long, starts in tileTris.
+  // Where the list of `block`, n entries long, starts in tileTris (< 2^32: its capacity).
   RAST_GPU_INLINE uint32_t listBegin(const int64_t block, const uint32_t n) const {
-    return stride ? uint32_t(block) * stride : tileEnd(block) - n;
+    return uint32_t(blending::listBegin(tileEnd, stride, block, n));
   }
 
   // sorted's key: its triangle's, whatever the sample.

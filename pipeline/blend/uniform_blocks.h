@@ -66,17 +66,17 @@ struct UniformBlocks {
   static constexpr uint32_t kOpen = 3u, kOk = 4u, kPaired = 8u;
   static_assert(kUniformMax % kClassLanes == 0, "a block's threads take its entries in turn");  // kPaired: a quad's half with the next in the order
   // A team's scratch: per block its entries, its order, its threads' nearest
-  // opaque depths, whether it is walked, its fragments.
+  // opaque depths, whether it is walked, its list's length, its fragments.
   struct Scratch {
     Entry* ent;
     uint8_t* ord;
-    uint32_t* nearest;
+    uint32_t *nearest, *count;
     int32_t* walk;
     uint64_t* frags;
   };
   static constexpr size_t kScratch =
-      kClassBlocks * (kUniformMax * (sizeof(Entry) + 1) + kClassLanes * sizeof(uint32_t) + sizeof(int32_t) +
-                      sizeof(uint64_t)) +
+      kClassBlocks * (kUniformMax * (sizeof(Entry) + 1) + kClassLanes * sizeof(uint32_t) + sizeof(uint32_t) +
+                      sizeof(int32_t) + sizeof(uint64_t)) +
       64;
 
   // The block's pixels within the frame: [x0, x1] x [y0, y1].
@@ -121,13 +121,13 @@ struct UniformBlocks {
   // walk's order), and the nearest opaque depth of rows j, j + kClassLanes,
   // ... of the block.
   KOKKOS_INLINE_FUNCTION void entries(const Scratch& sc, const int b, const int64_t block, const int j) const {
-    if (j == 0) sc.walk[b] = 0;
     uint32_t begin, n;
     const bool may = listOf(block, begin, n);
-    if (!may) {
-      if (j == 0) sc.walk[b] = 1;
-      return;
+    if (j == 0) {
+      sc.walk[b] = may ? 0 : 1;
+      sc.count[b] = n;
     }
+    if (!may) return;
     const P& p = peel;
     const FragShade& fs = p.fs;
     int32_t x0, y0, x1, y1;
@@ -192,10 +192,10 @@ struct UniformBlocks {
 
   // Thread j of block b: its entries in front of the block's nearest opaque
   // depth (else the block is walked), and their places in the order.
-  KOKKOS_INLINE_FUNCTION void rank(const Scratch& sc, const int b, const int64_t block, const int j) const {
+  KOKKOS_INLINE_FUNCTION void rank(const Scratch& sc, const int b, const int j) const {
     if (sc.walk[b]) return;
     const P& p = peel;
-    const uint32_t n = p.tileCount(block);
+    const uint32_t n = sc.count[b];
     const Entry* ent = sc.ent + b * kUniformMax;
     uint32_t nearest = ~0u;
     for (int k = 0; k < kClassLanes; ++k) {
@@ -220,10 +220,10 @@ struct UniformBlocks {
   // the pair's colour at every sample, in the pair's place. (Halves apart
   // in the order: another triangle's fragment would fall between them at
   // some samples.)
-  KOKKOS_INLINE_FUNCTION void pair(const Scratch& sc, const int b, const int64_t block, const int j) const {
+  KOKKOS_INLINE_FUNCTION void pair(const Scratch& sc, const int b, const int j) const {
     if (sc.walk[b]) return;
     const P& p = peel;
-    const uint32_t n = p.tileCount(block);
+    const uint32_t n = sc.count[b];
     Entry* ent = sc.ent + b * kUniformMax;
     const uint8_t* ord = sc.ord + b * kUniformMax;
     for (uint32_t r = uint32_t(j); r + 1 < n; r += kClassLanes) {
@@ -244,10 +244,10 @@ struct UniformBlocks {
   // quad's two halves; and its fragments a sample (kUniformWalk: walked).
   // exact: one order at every sample only where each unit's range (a
   // pair's: their union) ends before the next begins (the team's orderEntries).
-  KOKKOS_INLINE_FUNCTION uint32_t composite(const Scratch& sc, const int b, const int64_t block, float4& out) const {
+  KOKKOS_INLINE_FUNCTION uint32_t composite(const Scratch& sc, const int b, float4& out) const {
     if (sc.walk[b]) return kUniformWalk;
     const P& p = peel;
-    const uint32_t n = p.tileCount(block);
+    const uint32_t n = sc.count[b];
     const Entry* ent = sc.ent + b * kUniformMax;
     const uint8_t* ord = sc.ord + b * kUniformMax;
     float3 acc{0.0f, 0.0f, 0.0f};
@@ -288,7 +288,7 @@ struct UniformBlocks {
     if (block >= blocks) return 0;
     const P& p = peel;
     float4 out;
-    const uint32_t units = composite(sc, b, block, out);
+    const uint32_t units = composite(sc, b, out);
     p.blockFrags(block) = units;
     if (units == kUniformWalk) {
       p.walkedBlocks(Kokkos::atomic_fetch_add(&p.totals(kBlendWalked), uint64_t(1))) = uint32_t(block);
@@ -310,6 +310,7 @@ struct UniformBlocks {
         m.team_scratch(0).get_shmem_aligned(kClassBlocks * kUniformMax * sizeof(Entry), alignof(Entry))));
     sc.frags = inTeamScratch(static_cast<uint64_t*>(m.team_scratch(0).get_shmem_aligned(kClassBlocks * sizeof(uint64_t), 8)));
     sc.nearest = inTeamScratch(static_cast<uint32_t*>(m.team_scratch(0).get_shmem(kClassBlocks * kClassLanes * sizeof(uint32_t))));
+    sc.count = inTeamScratch(static_cast<uint32_t*>(m.team_scratch(0).get_shmem(kClassBlocks * sizeof(uint32_t))));
     sc.walk = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(kClassBlocks * sizeof(int32_t))));
     sc.ord = inTeamScratch(static_cast<uint8_t*>(m.team_scratch(0).get_shmem(kClassBlocks * kUniformMax)));
     const int64_t first = int64_t(m.league_rank()) * kClassBlocks;
@@ -319,9 +320,9 @@ struct UniformBlocks {
     };
     each([&](const int b, const int64_t block, const int j) { entries(sc, b, block, j); });
     m.team_barrier();
-    each([&](const int b, const int64_t block, const int j) { rank(sc, b, block, j); });
+    each([&](const int b, const int64_t, const int j) { rank(sc, b, j); });
     m.team_barrier();
-    each([&](const int b, const int64_t block, const int j) { pair(sc, b, block, j); });
+    each([&](const int b, const int64_t, const int j) { pair(sc, b, j); });
     m.team_barrier();
     each([&](const int b, const int64_t block, const int j) {
       if (j == 0) sc.frags[b] = finish(sc, b, block);
