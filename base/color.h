@@ -96,7 +96,8 @@ KOKKOS_INLINE_FUNCTION uint32_t linearToSrgb8(float c) {
   return uint32_t(s * 255.0f + 0.5f);
 }
 
-KOKKOS_INLINE_FUNCTION uint32_t unorm8(float v) { return uint32_t(clamp01(v) * 255.0f + 0.5f); }
+// (mulRn, addRn: the same byte wherever it is compiled.)
+KOKKOS_INLINE_FUNCTION uint32_t unorm8(float v) { return uint32_t(addRn(mulRn(clamp01(v), 255.0f), 0.5f)); }
 
 // Light: sRGB-encoded colour, linear alpha.
 template <class Table>
@@ -128,10 +129,20 @@ template <class Packed>
 KOKKOS_INLINE_FUNCTION uint32_t encodeFilm(float4 c, const bool raw, const bool straight, const Packed& packed) {
   if (!straight) return raw ? packRaw8(c) : packSrgb8Packed(c, packed);
   const float a = c.w > 0.0f ? (c.w < 1.0f ? c.w : 1.0f) : 0.0f;  // NaN: 0
-  if (a > 0.0f && a < 1.0f) c = float4{c.x / a, c.y / a, c.z / a, a};
+  if (a > 0.0f && a < 1.0f) c = float4{divRn(c.x, a), divRn(c.y, a), divRn(c.z, a), a};
   c.w = a;
   const uint32_t rgb = raw ? packRaw8(c) & 0xffffffu : packSrgb8Packed(c, packed) & 0xffffffu;
   return rgb | unorm8(a) << 24;
+}
+
+// A sample's result under BLEND layers (docs/transparency.md): what lies in
+// front (premultiplied colour acc, transmittance T) over its opaque colour,
+// the film's alpha composited the same way. Written with mulRn and addRn: the
+// GPU's shading composites the uniform blocks' pixels as it shades them, in
+// the bits of the resolve's passes.
+KOKKOS_INLINE_FUNCTION float4 overOpaque(const float3 acc, float T, const float4 opq) {
+  return float4{addRn(acc.x, mulRn(T, opq.x)), addRn(acc.y, mulRn(T, opq.y)), addRn(acc.z, mulRn(T, opq.z)),
+                addRn(1.0f, -mulRn(T, addRn(1.0f, -opq.w)))};
 }
 
 // The inverse of the two packings (linear light, or raw values in [0,1]).

@@ -41,6 +41,33 @@ KOKKOS_INLINE_FUNCTION int32_t imin(int32_t a, int32_t b) { return a < b ? a : b
 KOKKOS_INLINE_FUNCTION int32_t imax(int32_t a, int32_t b) { return a > b ? a : b; }
 KOKKOS_INLINE_FUNCTION uint32_t imaxu(uint32_t a, uint32_t b) { return a > b ? a : b; }
 KOKKOS_INLINE_FUNCTION float clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+// One IEEE multiply, add or division, never fused or approximated: the same
+// bits in a translation unit that the CUDA build compiles with fused
+// multiply-adds and fast division (the GPU's shading, CMakeLists.txt) as in
+// every other, for arithmetic whose result another pass must reproduce (the
+// film's composite and encoding, base/color.h). Host and HIP builds never
+// contract (-ffp-contract=off).
+KOKKOS_INLINE_FUNCTION float mulRn(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  return __fmul_rn(a, b);
+#else
+  return a * b;
+#endif
+}
+KOKKOS_INLINE_FUNCTION float addRn(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  return __fadd_rn(a, b);
+#else
+  return a + b;
+#endif
+}
+KOKKOS_INLINE_FUNCTION float divRn(float a, float b) {
+#if defined(__CUDA_ARCH__)
+  return __fdiv_rn(a, b);
+#else
+  return a / b;
+#endif
+}
 KOKKOS_INLINE_FUNCTION bool isFinite(float v) {
   // True for finite values; false for NaN and +-Inf (NaN fails every comparison).
   return v - v == 0.0f;

@@ -18,7 +18,7 @@
 namespace rast {
 namespace blending {
 
-constexpr int32_t kItemShift = 3;  // work items are 8x8 pixel blocks
+constexpr int32_t kItemShift = kBlendBlockShift;  // work items are 8x8 pixel blocks
 
 // glTF's alpha, made total: [0, 1], NaN as 0 (the fragment is then dropped).
 KOKKOS_INLINE_FUNCTION float cleanAlpha(float a) { return a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f; }

@@ -30,6 +30,11 @@ struct BlendPlan {
   // The shade stage writes the opaque depth that the lists' resolve reads
   // (shadeWritesOpaqueDepth): the lists' stage copies none.
   bool shadeDepth = false;
+  // GPUs' glTF shading (and the team form under TestHooks::teamResolve):
+  // the uniform blocks are classified before shading, and the shade stage
+  // composites their pixels as it shades them (ShadeBlend): no pass of its
+  // own reads and writes the film for them. Implies shadeDepth.
+  bool shadeComposite = false;
 };
 
 // Whether `method` walks tile lists, `fallback` telling that they would
@@ -62,6 +67,10 @@ bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p);
 // kernel writes (pipeline/blend/uniform_blocks.h), where the team form's
 // encoding under Lambert cost it what the encoder's pass did.
 bool blendResolveEncodes(const ShadeParams& p);
+// Whether the uniform blocks of a frame under shading p can be composited by
+// the shade stage (BlendPlan::shadeComposite; the frame plan adds its own
+// conditions): the team form under the glTF shading.
+bool blendShadeComposites(const ShadeParams& p);
 uint64_t blendLaunchKey(const FrameBuffers& f);
 // The layout of the frame's tile lists (blend_tiles.cpp): 0 counted, else
 // strided with this stride, where the last frame's longest list fits it and

@@ -188,6 +188,10 @@ bool blendResolveEncodes(const ShadeParams& p) {
   return blending::familyEncodes(blending::fragFamily(p));
 }
 
+bool blendShadeComposites(const ShadeParams& p) {
+  return blending::teamForm() && blending::fragFamily(p) == blending::kFragPbr;
+}
+
 bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p) {
   return !b.blend || (b.lists && blending::fragFamily(p) != blending::kFragGeneral);
 }
@@ -228,6 +232,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
   if (b.lists) {
     const bool weighted = b.method == Transparency::Weighted;
     tileLists(f, opaqueKeys, weighted, fragFamily(makeFragShade(s, f, p, lights)), !b.shadeDepth);
+    if (b.shadeComposite) uniformBlocksBeforeShading(s, f, p, lights, b, opaqueKeys);
     return;
   }
   ensureCapacity(bb.accum, "blend.accum", n);

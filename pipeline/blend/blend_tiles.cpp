@@ -281,10 +281,6 @@ void longestList(const DView<uint32_t>& tileCount, const DView<uint64_t>& totals
                        TileLongest{tileCount, totals, blocks});
 }
 
-// Whether the specialised fragment families resolve a team a block (GPUs;
-// host backends under TestHooks::teamResolve).
-bool teamForm() { return kOnDevice || testHooks().teamResolve; }
-
 // peelResolve's launch of the frame's instance (withFragPath).
 struct PeelLaunch {
   const FragShade& fs;
@@ -294,6 +290,9 @@ struct PeelLaunch {
   int32_t blocksX, sorted, weighted;
   const BlendPlan& plan;
   const DView<uint32_t>& packed;  // the sRGB encoder's table, where the resolve encodes (plan.encode)
+  // Where set, the uniform blocks' classification alone, before shading,
+  // from these keys' depth (plan.shadeComposite); else the resolve.
+  DView<uint64_t> keys;
   template <unsigned kThreads, unsigned kTeams, class Team>
   static void launchTeams(const Team& team) {
     using Policy = Kokkos::TeamPolicy<Exec, Kokkos::LaunchBounds<kThreads, kTeams>>;
@@ -317,7 +316,9 @@ struct PeelLaunch {
     // of line on a GPU and launches heavyweight (pipeline/data/device.h).
     peel.stride = bb.listStride;
     static_assert(!kOnDevice || sizeof(peel) <= 4000, "a lightweight launch carries its functor in 4 KiB of parameters");
+    if (keys.data() && !teamForm()) return;  // (blendShadeComposites: never asked)
     if constexpr (kFam == kFragGeneral) {
+      if (keys.data()) return;
       Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)), peel, result);
     } else if (teamForm()) {
       using Team = PeelTeam<kFam, kFeat>;
@@ -326,14 +327,22 @@ struct PeelLaunch {
         peel.blockComposite = bb.blockComposite;  // (allocated by tileLists)
         peel.blockFrags = bb.blockFrags;
         peel.walkedBlocks = bb.walkedBlocks;
-        using Class = UniformBlocks<kFam, kFeat>;
-        Kokkos::parallel_for("rast::blend::uniform_blocks",
-                             lightweight(TeamPolicy(int((blocks + kClassBlocks - 1) / kClassBlocks),
-                                                    kOnDevice ? kClassBlocks * kClassLanes : 1)
-                                             .set_scratch_size(0, Kokkos::PerTeam(Class::kScratch))),
-                             Class{peel, blocks});
-        Kokkos::parallel_for("rast::blend::uniform_pixels", lightweight(Range(0, int64_t(f.vp.width) * f.vp.height)),
-                             UniformPixels<kFam, kFeat>{peel});
+        // Classified before shading, which composited their pixels
+        // (plan.shadeComposite), or here, their pixels by a pass of their own.
+        if (keys.data() || !plan.shadeComposite) {
+          using Class = UniformBlocks<kFam, kFeat>;
+          Kokkos::parallel_for("rast::blend::uniform_blocks",
+                               lightweight(TeamPolicy(int((blocks + kClassBlocks - 1) / kClassBlocks),
+                                                      kOnDevice ? kClassBlocks * kClassLanes : 1)
+                                               .set_scratch_size(0, Kokkos::PerTeam(Class::kScratch))),
+                               Class{peel, blocks, keys});
+        }
+        if (keys.data()) return;
+        if (!plan.shadeComposite)
+          Kokkos::parallel_for("rast::blend::uniform_pixels",
+                               lightweight(Range(0, int64_t(f.vp.width) * f.vp.height)), UniformPixels<kFam, kFeat>{peel});
+      } else if (keys.data()) {
+        return;  // (blendShadeComposites: never asked)
       }
       const uint32_t entries = Team::entriesFor(bb.longestList);
       // The larger scratch under launch bounds that let its teams fit a
@@ -360,6 +369,8 @@ struct PeelLaunch {
 };
 
 }  // namespace
+
+bool teamForm() { return kOnDevice || testHooks().teamResolve; }
 
 void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool rasterOrder, const FragFamily fam,
                const bool copyDepth) {
@@ -416,8 +427,10 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
                        KOKKOS_LAMBDA(const int64_t q) { opaque(q) = uint32_t(vis(q) >> 32); });
 }
 
-void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                 const BlendPlan& b) {
+namespace {
+
+void launchPeel(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
+                const BlendPlan& b, const DView<uint64_t>& keys) {
   const Transparency method = b.method;
   const BlendBuffers& bb = f.blend;
   const int32_t blocksX = (f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
@@ -429,7 +442,19 @@ void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, co
   const Kokkos::Sum<uint64_t, Mem> result(Kokkos::View<uint64_t, Mem>(bb.totals.data() + kBlendFrags));
   const FragShade fs = makeFragShade(s, f, p, lights);
   withFragPath(fs, PeelLaunch{fs, f, result, items, blocksX, method == Transparency::Sorted ? 1 : 0,
-                              method == Transparency::Weighted ? 1 : 0, b, s.srgbEncodePacked});
+                              method == Transparency::Weighted ? 1 : 0, b, s.srgbEncodePacked, keys});
+}
+
+}  // namespace
+
+void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
+                 const BlendPlan& b) {
+  launchPeel(s, f, p, lights, b, DView<uint64_t>());
+}
+
+void uniformBlocksBeforeShading(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p,
+                                const DView<LightGPU>& lights, const BlendPlan& b, const DView<uint64_t>& opaqueKeys) {
+  launchPeel(s, f, p, lights, b, opaqueKeys);
 }
 
 }  // namespace blending

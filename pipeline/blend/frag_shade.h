@@ -188,11 +188,7 @@ RAST_GPU_INLINE void over(float3& acc, float& T, const float4 c) {
   T = T * (1.0f - c.w);
 }
 
-// A sample's result: what lies in front (acc, transmittance T) over its
-// opaque colour; the film's alpha composited the same way.
-KOKKOS_INLINE_FUNCTION float4 overOpaque(const float3 acc, float T, const float4 opq) {
-  return float4{acc.x + T * opq.x, acc.y + T * opq.y, acc.z + T * opq.z, 1.0f - T * (1.0f - opq.w)};
-}
+// A sample's result over its opaque colour: overOpaque (base/color.h).
 
 // Weighted blended OIT (McGuire and Bavoil 2013): a fragment's terms of the
 // sample's sums (premultiplied colour and alpha times its weight w) and of
@@ -317,6 +313,14 @@ FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams
 void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, bool rasterOrder, FragFamily fam, bool copyDepth);
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                  const BlendPlan& b);
+// Whether the specialised fragment families resolve a team a block (GPUs;
+// host backends under TestHooks::teamResolve).
+bool teamForm();
+// Where the shade stage composites the uniform blocks (BlendPlan::shadeComposite):
+// their classification (uniform_blocks.h), after the lists and before
+// shading, from the opaque keys' depth.
+void uniformBlocksBeforeShading(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p,
+                                const DView<LightGPU>& lights, const BlendPlan& b, const DView<uint64_t>& opaqueKeys);
 
 }  // namespace blending
 }  // namespace rast

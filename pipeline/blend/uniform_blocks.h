@@ -4,16 +4,20 @@
 // but those across their shared edge), in front of its nearest opaque depth,
 // with one colour (unlit, untextured layers: FragShade::constantColourOf)
 // composites the same fragments in the same order at every sample: the
-// team form's walk would repeat one "over" 64 times a sample. Before the
-// resolve a few threads a block (one a list entry) decide that and compute
-// the composite once, counting its fragments, and list the other blocks
-// (rast::blend::uniform_blocks); a thread a pixel then writes the composite
-// over the opaque colour (rast::blend::uniform_pixels), and the team walks
-// only the listed blocks (PeelTeam). Kernels of their own and not steps of
-// the team: classifying inside the team (a team reduction of the opaque
-// depth and a barrier a block) made the H200's resolve slower, and the team
-// kernel's occupancy (its scratch) is too low for a pass that only streams
-// the film (docs/journal/transparency-2026-11.md). The CPU's block walk
+// team form's walk would repeat one "over" 64 times a sample. A few threads
+// a block (one a list entry) decide that and compute the composite once,
+// counting its fragments, and list the other blocks
+// (rast::blend::uniform_blocks); the team then walks only the listed blocks
+// (PeelTeam). At one sample this runs before shading, from the opaque keys,
+// and the shade stage writes each uniform pixel's composite over the colour
+// it shades (BlendPlan::shadeComposite, Shade::blendOver: the film read and
+// written once less); else, after shading, a thread a pixel writes it over
+// the film's opaque colour (rast::blend::uniform_pixels). Kernels of their
+// own and not steps of the team: classifying inside the team (a team
+// reduction of the opaque depth and a barrier a block) made the H200's
+// resolve slower, and the team kernel's occupancy (its scratch) is too low
+// for a pass that only streams the film
+// (docs/journal/transparency-2026-11.md). The CPU's block walk
 // decides the same a sample at a time (peel_block.h, PeelBlocks::uniform).
 #pragma once
 
@@ -25,8 +29,6 @@ namespace blending {
 
 // Longest list composited once (its keys and colours on the thread's stack).
 constexpr uint32_t kUniformMax = 16;
-// blockFrags' value for a block the team walks.
-constexpr uint32_t kUniformWalk = ~0u;
 
 // The resolves that read the uniform blocks: the glTF shading's instances
 // that can have a constant colour.
@@ -54,6 +56,10 @@ struct UniformBlocks {
            // blockFrags (the fragments a sample; kUniformWalk where the team walks
            // the list) and walkedBlocks (those, totals(kBlendWalked) of them)
   int64_t blocks;
+  // Where set, each sample's opaque key, whose depth the classification
+  // reads before shading (BlendPlan::shadeComposite); else the opaque depth
+  // the shading wrote (peel.opaque).
+  DView<uint64_t> keys;
 
   // An entry of a block's list, as its thread finds it.
   struct Entry {
@@ -89,17 +95,18 @@ struct UniformBlocks {
   }
 
   // The edges of e that leave out some sample of the pixels [x0, x1] x
-  // [y0, y1], bit k for edge k: an edge function is linear, so its least
-  // value over them is at a corner pixel (exact integers, Edges::inside's test).
+  // [y0, y1], bit k for edge k (exact integers, Edges::inside's test): an
+  // edge function is linear, so its least value over them is at the corner
+  // its signs point away from (a sample adds the same offset at every pixel):
+  // one corner an edge, not four (the classification's most instructions).
   KOKKOS_INLINE_FUNCTION static uint32_t openEdges(const Edges& e, const int32_t x0, const int32_t y0,
                                                    const int32_t x1, const int32_t y1, const SamplePattern& sp) {
     uint32_t open = 0;
-    for (int s = 0; s < sp.count; ++s)
-      for (int c = 0; c < 4; ++c) {
-        const int32_t X = (c & 1) ? x1 : x0, Y = (c & 2) ? y1 : y0;
-        for (int k = 0; k < 3; ++k)
-          if (!(e.sample(k, X, Y, sp.ox[s], sp.oy[s]) + e.bias[k] > 0)) open |= 1u << k;
-      }
+    for (int k = 0; k < 3; ++k) {
+      const int32_t X = e.A[k] > 0 ? x0 : x1, Y = e.B[k] > 0 ? y0 : y1;
+      for (int s = 0; s < sp.count; ++s)
+        if (!(e.sample(k, X, Y, sp.ox[s], sp.oy[s]) + e.bias[k] > 0)) open |= 1u << k;
+    }
     return open;
   }
 
@@ -141,7 +148,8 @@ struct UniformBlocks {
 #pragma unroll
 #endif
         for (int32_t dx = 0; dx < (1 << kItemShift); ++dx) {
-          const uint32_t o = x0 + dx <= x1 ? p.opaque(row + int64_t(dx) * S) : ~0u;
+          const int64_t q = row + int64_t(dx) * S;
+          const uint32_t o = x0 + dx > x1 ? ~0u : keys.data() ? uint32_t(keys(q) >> 32) : p.opaque(q);
           nearest = o < nearest ? o : nearest;
         }
       }

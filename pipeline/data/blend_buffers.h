@@ -22,6 +22,11 @@ enum BlendTotal : int {
   kNumBlendTotals = 7
 };
 
+// The tile lists' blocks: 8x8 pixels (blending::kItemShift).
+constexpr int32_t kBlendBlockShift = 3;
+// BlendBuffers::blockFrags' value for a block the team walks.
+constexpr uint32_t kUniformWalk = ~0u;
+
 struct BlendBuffers {
   DView<uint64_t> totals;            // BlendTotal
   DView<uint64_t> maskStart, blendStart;  // per raster triangle: its first work item (exclusive scan)
@@ -32,8 +37,9 @@ struct BlendBuffers {
   // (shading clears the visibility buffer before the resolve reads them)
   DView<uint32_t> tileCount, tileEnd, tileTris, opaque;
   // The team form under the glTF shading (pipeline/blend/uniform_blocks.h):
-  // per 8x8 block the composite where it is uniform, and its fragments a
-  // sample; the blocks that the team walks (totals(kBlendWalked) of them)
+  // per 8x8 block the composite where it is uniform (premultiplied colour
+  // and transmittance), and its fragments a sample (kUniformWalk where the
+  // team walks it); the blocks that the team walks (totals(kBlendWalked) of them)
   DView<float4> blockComposite;
   DView<uint32_t> blockFrags, walkedBlocks;
   uint64_t tileCapacity = 0;

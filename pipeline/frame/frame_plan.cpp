@@ -164,6 +164,9 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // the composited keys' depth.
   p.blend.shadeDepth = p.blend.blend && p.blend.lists && p.shade == ShadePath::Pixels && !in.keepKeys &&
                        shadeWritesOpaqueDepth(p.shadeParams, p.samples);
+  // Its team form's uniform blocks classified before shading and composited
+  // by that kernel as it shades them (uniform_blocks.h).
+  p.blend.shadeComposite = p.blend.shadeDepth && blendShadeComposites(p.shadeParams);
 
   // Everything the frame's launches depend on besides device memory: a
   // recorded frame is replayed only under the same key (frame_graphs.h).
@@ -171,7 +174,8 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   for (uint64_t v : {uint64_t(p.method), uint64_t(p.autoStats), uint64_t(p.occluders), uint64_t(p.rowLanes),
                      uint64_t(f.visClear), uint64_t(in.supersampling), uint64_t(f.triCapacity), uint64_t(f.workCapacity),
                      uint64_t(p.blend.method), uint64_t(p.blend.lists), uint64_t(p.blend.encode),
-                     uint64_t(p.blend.shadeDepth), f.blend.tileCapacity, p.blend.blend ? blendLaunchKey(f) : 0})
+                     uint64_t(p.blend.shadeDepth), uint64_t(p.blend.shadeComposite), f.blend.tileCapacity,
+                     p.blend.blend ? blendLaunchKey(f) : 0})
     p.key.append(reinterpret_cast<const char*>(&v), sizeof v);
   return p;
 }

@@ -340,8 +340,19 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   Kokkos::Profiling::pushRegion("rast::shade");
   switch (plan.shade) {
     case ShadePath::Pixels:
-      shadeStage(scene_, frame_, plan.shadeParams, lights_, plan.blend.shadeDepth ? frame_.blend.opaque : DView<uint32_t>());
+    {
+      ShadeBlend sb;
+      if (plan.blend.shadeDepth) sb.opaqueDepth = frame_.blend.opaque;
+      if (plan.blend.shadeComposite) {
+        sb.composite = frame_.blend.blockComposite;
+        sb.frags = frame_.blend.blockFrags;
+        sb.encode = plan.blend.encode;
+        sb.raw = plan.blend.raw;
+        sb.straight = plan.blend.straight;
+      }
+      shadeStage(scene_, frame_, plan.shadeParams, lights_, sb);
       break;
+    }
     case ShadePath::Spans: shadeSpansStage(scene_, frame_, plan.shadeParams, lights_); break;
     case ShadePath::FusedBinned: break;  // shaded with the raster
     case ShadePath::None: break;         // the keys are the output (the caller clears none: visClear is false)

@@ -41,10 +41,24 @@ struct ShadeParams {
   EnvironmentGPU env;
 };
 
-// opaqueDepth, where given (shadeWritesOpaqueDepth): each sample's depth
-// bits, written as its key is read and cleared.
+// What the shade stage writes for the transparency methods that walk tile
+// lists (pipeline/blend/, BlendPlan), where the frame plan asks it to; only
+// the kernel of shadeWritesOpaqueDepth does.
+struct ShadeBlend {
+  // Each sample's depth bits, written as its key is read and cleared
+  // (BlendPlan::shadeDepth).
+  DView<uint32_t> opaqueDepth;
+  // Per 8x8 block, where every pixel's BLEND layers composite alike
+  // (BlendBuffers::blockFrags not kUniformWalk), what lies in front of the
+  // opaque surface (BlendBuffers::blockComposite): such a pixel's film value
+  // is that over the colour shaded (overOpaque), with its bytes where encode
+  // (encodeFilm; BlendPlan::shadeComposite, encode, raw, straight).
+  DView<float4> composite;
+  DView<uint32_t> frags;
+  bool encode = false, raw = false, straight = false;
+};
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                const DView<uint32_t>& opaqueDepth = DView<uint32_t>());
+                const ShadeBlend& blend = ShadeBlend());
 // Whether shadeStage's kernel for p can write the opaque depth (the glTF
 // shading's kernel, one sample), which the listed transparency methods
 // then need not copy out of the keys before shading clears them.

@@ -148,9 +148,37 @@ struct Shade {
   int32_t interleaved = 0;  // GPU layout of work items (ShadeInterleaved) instead of runs along rows
   DView<uint32_t> blockFrame{};  // FrameBuffers::blockFrame, read when p.blockFrames
   DView<uint32_t> opaqueDepth{};  // where set, each sample's depth bits (shadeWritesOpaqueDepth)
+  // Where set, the BLEND layers' uniform blocks (ShadeBlend): blendOver.
+  DView<float4> blendComposite{};
+  DView<uint32_t> blendFrags{};
+  int32_t blendBlocksX = 0, blendEncode = 0, blendRaw = 0, blendStraight = 0;
   DView<uint32_t> blockDepth{};  // FrameBuffers::blockDepth, reset with the keys when resetBlocks
   int32_t blocksPerRow = 0, resetBlocks = 0;
 
+  // The BLEND layers' composite over pixel (X, Y) where its block's layers
+  // composite alike (ShadeBlend::composite): looked up once for a GPU
+  // thread's column of pixels, which lies in one block, its two loads
+  // issued together (a walked block's composite is stale, and not used).
+  struct BlendAt {
+    float4 o;
+    int32_t over;
+  };
+  KOKKOS_INLINE_FUNCTION BlendAt blendAt(const int32_t X, const int32_t Y) const {
+    if (!blendComposite.data()) return BlendAt{float4{0.0f, 0.0f, 0.0f, 0.0f}, 0};
+    const int64_t b = int64_t(Y >> kBlendBlockShift) * blendBlocksX + (X >> kBlendBlockShift);
+    const uint32_t frags = blendFrags(b);
+    const float4 o = blendComposite(b);
+    return BlendAt{o, frags != kUniformWalk ? 1 : 0};
+  }
+  // The film's value of pixel i shaded c: c, or that composite over c, and
+  // its bytes where asked (the resolve's arithmetic, Peel::filmSample: the
+  // same bits, mulRn and addRn under this file's fused multiply-adds).
+  KOKKOS_INLINE_FUNCTION float4 blendOver(const int64_t i, const BlendAt& a, const float4 c) const {
+    if (!a.over) return c;
+    const float4 out = overOpaque(float3{a.o.x, a.o.y, a.o.z}, a.o.w, c);
+    if (blendEncode) color(i) = encodeFilm(out, blendRaw != 0, blendStraight != 0, encodePacked);
+    return out;
+  }
   // With the keys cleared for the next frame, the visbuffer's depth bounds
   // are reset too (raster_visbuffer.cpp), each by its block's first pixel.
   KOKKOS_INLINE_FUNCTION void resetBlock(int32_t X, int32_t Y) const {

@@ -49,7 +49,15 @@ template <int kFeat>
 void launchPbrWith(const Shade& k, const Range& items) {
   using Bounded = Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kShadeLaunchBounds[0], kShadeLaunchBounds[1]>>;
   const Bounded policy(items.begin(), items.end());
-  Kokkos::parallel_for("rast::shade::pbr", lightweight(policy), shading::ShadePbr<kFeat, kOnDevice>{k});
+  // A CPU's one instance checks for the BLEND composite (a predictable
+  // branch a pixel); a GPU's opaque frames take one without it.
+  if constexpr (kOnDevice) {
+    if (!k.blendComposite.data()) {
+      Kokkos::parallel_for("rast::shade::pbr", lightweight(policy), shading::ShadePbr<kFeat, true, false>{k});
+      return;
+    }
+  }
+  Kokkos::parallel_for("rast::shade::pbr", lightweight(policy), shading::ShadePbr<kFeat, kOnDevice, true>{k});
 }
 
 void launchPbr(const Shade& k, const Range& items) {
@@ -209,9 +217,16 @@ bool shadeWritesOpaqueDepth(const ShadeParams& p, int samples) {
 }
 
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
-                const DView<uint32_t>& opaqueDepth) {
+                const ShadeBlend& blend) {
   Shade k = makeShade(s, f, p, lights);
-  k.opaqueDepth = opaqueDepth;  // (asked only where shadeWritesOpaqueDepth, launchShade's own choice)
+  // (Asked only where shadeWritesOpaqueDepth, launchShade's own choice.)
+  k.opaqueDepth = blend.opaqueDepth;
+  k.blendComposite = blend.composite;
+  k.blendFrags = blend.frags;
+  k.blendBlocksX = (f.vp.width + (1 << kBlendBlockShift) - 1) >> kBlendBlockShift;
+  k.blendEncode = blend.encode ? 1 : 0;
+  k.blendRaw = blend.raw ? 1 : 0;
+  k.blendStraight = blend.straight ? 1 : 0;
   launchShade(k, Range(0, k.workItems()));
   f.visClear = true;
 }

@@ -394,7 +394,7 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
       const auto frags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), r.frameBuffers().blend.blockFrags);
       const size_t blocks = size_t((rs.width + 7) / 8) * size_t((rs.height + 7) / 8);
       size_t once = 0;
-      for (size_t b = 0; b < blocks && b < frags.extent(0); ++b) once += frags(b) != blending::kUniformWalk ? 1 : 0;
+      for (size_t b = 0; b < blocks && b < frags.extent(0); ++b) once += frags(b) != rast::kUniformWalk ? 1 : 0;
       return std::make_pair(once, blocks);
     };
     for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
@@ -522,16 +522,22 @@ TEST_CASE("BLEND: the glTF shading's kernel writes the opaque depth that the res
         Renderer a(s);
         written = a.render(defaultCamera(s), rs);
         CHECK(a.lastPlan().blend.shadeDepth);
+        // The team form's uniform blocks classified before shading and
+        // composited by the kernel (Shade::blendOver), against the pass
+        // after shading that the general kernel keeps: the same bits.
+        CHECK(a.lastPlan().blend.shadeComposite == (team || kOnDevice));
         PerPixel g;
         Renderer b(s);
         copied = b.render(defaultCamera(s), rs);
         CHECK(b.lastPlan().blend.shadeDepth == kOnDevice);  // (a GPU's run is one pixel anyway)
+        CHECK(b.lastPlan().blend.shadeComposite == kOnDevice);
         CHECK(sameBits(a.filmBottomUp(), b.filmBottomUp()));
         CHECK(copied.blendFragments == written.blendFragments);
         CHECK(copied.blendMaxDepth == written.blendMaxDepth);
         rs.msaa = 4;  // the kernel of several samples copies
         a.render(defaultCamera(s), rs);
         CHECK(!a.lastPlan().blend.shadeDepth);
+        CHECK(!a.lastPlan().blend.shadeComposite);
       }
   }
 }
@@ -575,10 +581,16 @@ TEST_CASE("BLEND: the tile lists' resolve encodes the colour to the post chain's
   // makes the chain encode instead.
   // Light and raw data (the normals mode), an opaque, a transparent and a
   // half-transparent background (straight alpha), one and four samples, the
-  // three listed methods; the frame's size not a multiple of 8.
+  // three listed methods; the frame's size not a multiple of 8. The team
+  // form under the glTF shading at one sample too, whose shade stage encodes
+  // the uniform blocks' pixels (BlendPlan::shadeComposite).
   struct Chain {
     Chain() { testHooks().chainEncode = true; }
     ~Chain() { testHooks().chainEncode = false; }
+  };
+  struct Team {
+    explicit Team(bool on) { testHooks().teamResolve = on; }
+    ~Team() { testHooks().teamResolve = false; }
   };
   for (const char* name : {"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=12&mixed=1&cross=1&unlit=0",
                            "builtin:layers?n=64&alpha=0.1", "builtin:cutout?blend=1"}) {
@@ -587,22 +599,29 @@ TEST_CASE("BLEND: the tile lists' resolve encodes the colour to the post chain's
       for (int msaa : {1, 4})
         for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted})
           for (const rast::float4 bg : {rast::float4{0.1f, 0.2f, 0.3f, 1.0f}, rast::float4{0.0f, 0.0f, 0.0f, 0.0f},
-                                        rast::float4{0.2f, 0.3f, 0.4f, 0.5f}}) {
-            INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t) << " alpha " << bg.w);
-            RenderSettings rs = small(93, 53);
-            rs.shading = mode;
-            rs.msaa = msaa;
-            rs.transparency = t;
-            rs.background = bg;
-            Renderer folded(s);
-            folded.render(defaultCamera(s), rs);
-            CHECK(folded.lastPlan().blend.encode == kBlendResolveEncodes);  // CPUs: kept where faster
-            Chain g;
-            Renderer chained(s);
-            chained.render(defaultCamera(s), rs);
-            CHECK(!chained.lastPlan().blend.encode);
-            CHECK(folded.colorTopDown() == chained.colorTopDown());
-          }
+                                        rast::float4{0.2f, 0.3f, 0.4f, 0.5f}})
+            for (bool team : {false, true}) {
+              // (64 layers' lists are longer than a uniform block's: walked.)
+              if (team && (mode != ShadingMode::Pbr || msaa != 1 || std::string(name).find("n=64") != std::string::npos))
+                continue;
+              INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t) << " alpha " << bg.w
+                        << " team " << team);
+              Team h(team);
+              RenderSettings rs = small(93, 53);
+              rs.shading = mode;
+              rs.msaa = msaa;
+              rs.transparency = t;
+              rs.background = bg;
+              Renderer folded(s);
+              folded.render(defaultCamera(s), rs);
+              CHECK(folded.lastPlan().blend.encode == kBlendResolveEncodes);  // CPUs: kept where faster
+              if (team) CHECK(folded.lastPlan().blend.shadeComposite);
+              Chain g;
+              Renderer chained(s);
+              chained.render(defaultCamera(s), rs);
+              CHECK(!chained.lastPlan().blend.encode);
+              CHECK(folded.colorTopDown() == chained.colorTopDown());
+            }
   }
   // A post pass reads the film after the resolve: the chain encodes.
   const Scene s = builtinScene("builtin:layers?n=8&mixed=1");
