@@ -316,9 +316,9 @@ struct PeelLaunch {
     // of line on a GPU and launches heavyweight (pipeline/data/device.h).
     peel.stride = bb.listStride;
     static_assert(!kOnDevice || sizeof(peel) <= 4000, "a lightweight launch carries its functor in 4 KiB of parameters");
-    if (keys.data() && !teamForm()) return;  // (blendShadeComposites: never asked)
+    // (Classifying alone is asked only of the team form's glTF instances: blendShadeComposites.)
+    if (keys.data() && !(uniformBlocksFor<kFam, kFeat>() && teamForm())) return;
     if constexpr (kFam == kFragGeneral) {
-      if (keys.data()) return;
       Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)), peel, result);
     } else if (teamForm()) {
       using Team = PeelTeam<kFam, kFeat>;
@@ -341,8 +341,6 @@ struct PeelLaunch {
         if (!plan.shadeComposite)
           Kokkos::parallel_for("rast::blend::uniform_pixels",
                                lightweight(Range(0, int64_t(f.vp.width) * f.vp.height)), UniformPixels<kFam, kFeat>{peel});
-      } else if (keys.data()) {
-        return;  // (blendShadeComposites: never asked)
       }
       const uint32_t entries = Team::entriesFor(bb.longestList);
       // The larger scratch under launch bounds that let its teams fit a

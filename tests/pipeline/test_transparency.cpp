@@ -53,6 +53,12 @@ bool sameBits(const std::vector<rast::float4>& a, const std::vector<rast::float4
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(rast::float4)) == 0;
 }
 
+// The resolve's team form on a CPU (TestHooks::teamResolve) for a scope.
+struct TeamForm {
+  explicit TeamForm(bool on = true) { testHooks().teamResolve = on; }
+  ~TeamForm() { testHooks().teamResolve = false; }
+};
+
 const Transparency kMethods[] = {Transparency::Exact, Transparency::Sorted, Transparency::KBuffer, Transparency::Weighted};
 
 }  // namespace
@@ -363,11 +369,7 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   // vertex-coloured BLEND quad; one and four samples; exact, sorted and
   // weighted (its sums in raster-index order: the list sorted, or the
   // entries in scratch); the statistics too.
-  struct Team {
-    Team() { testHooks().teamResolve = true; }
-    ~Team() { testHooks().teamResolve = false; }
-  };
-  sameUnderHook<Team>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
+  sameUnderHook<TeamForm>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
                        "builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&order=front",
                        "builtin:layers?n=8&mixed=1&occluder=1", "builtin:layers?n=8&mixed=1&cross=1",
                        "builtin:layers?n=8&mixed=1&tex=1",
@@ -383,7 +385,7 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   // for exact's tilted ones, whose whole depth ranges overlap, and for
   // unlit layers with a texture (FragShade::constantColourOf).
   {
-    Team g;
+    TeamForm g;
     const auto uniformBlocks = [](const char* name, Transparency t) {  // under the glTF shading
       const Scene s = builtinScene(name);
       RenderSettings rs = small();
@@ -417,7 +419,7 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   // (40 intersecting layers: up to 80 triangles a block, past the smaller
   // scratch): the same bits as the first frame, which walked those lists
   // from global memory.
-  Team g;
+  TeamForm g;
   const Scene s = builtinScene("builtin:layers?n=40&mixed=1&cross=1");
   RenderSettings rs = small();
   rs.transparency = Transparency::Exact;
@@ -443,10 +445,6 @@ TEST_CASE("BLEND: the strided tile lists give the counted lists' bits", "[transp
     explicit Stride(uint32_t s) { testHooks().listStride = s; }
     ~Stride() { testHooks().listStride = 0; }
   };
-  struct Team {
-    explicit Team(bool on) { testHooks().teamResolve = on; }
-    ~Team() { testHooks().teamResolve = false; }
-  };
   for (const char* name : {"builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&occluder=1",
                            "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1"}) {
     const Scene s = builtinScene(name);
@@ -455,7 +453,7 @@ TEST_CASE("BLEND: the strided tile lists give the counted lists' bits", "[transp
         for (int msaa : {1, 4})
           for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
             INFO(name << " team " << team << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
-            Team g(team);
+            TeamForm g(team);
             RenderSettings rs = small(93, 53);
             rs.shading = mode;
             rs.msaa = msaa;
@@ -504,17 +502,13 @@ TEST_CASE("BLEND: the glTF shading's kernel writes the opaque depth that the res
     PerPixel() { testHooks().shadeRun = 1; }
     ~PerPixel() { testHooks().shadeRun = 0; }
   };
-  struct Team {
-    explicit Team(bool on) { testHooks().teamResolve = on; }
-    ~Team() { testHooks().teamResolve = false; }
-  };
   for (const char* name : {"builtin:layers?n=8&mixed=1&occluder=1", "builtin:layers?n=12&mixed=1&cross=1&unlit=0",
                            "builtin:cutout?blend=1"}) {
     const Scene s = builtinScene(name);
     for (bool team : {false, true})
       for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
         INFO(name << " team " << team << " method " << int(t));
-        Team h(team);
+        TeamForm h(team);
         RenderSettings rs = small(93, 53);
         rs.shading = ShadingMode::Pbr;
         rs.transparency = t;
@@ -588,10 +582,6 @@ TEST_CASE("BLEND: the tile lists' resolve encodes the colour to the post chain's
     Chain() { testHooks().chainEncode = true; }
     ~Chain() { testHooks().chainEncode = false; }
   };
-  struct Team {
-    explicit Team(bool on) { testHooks().teamResolve = on; }
-    ~Team() { testHooks().teamResolve = false; }
-  };
   for (const char* name : {"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=12&mixed=1&cross=1&unlit=0",
                            "builtin:layers?n=64&alpha=0.1", "builtin:cutout?blend=1"}) {
     const Scene s = builtinScene(name);
@@ -606,7 +596,7 @@ TEST_CASE("BLEND: the tile lists' resolve encodes the colour to the post chain's
                 continue;
               INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t) << " alpha " << bg.w
                         << " team " << team);
-              Team h(team);
+              TeamForm h(team);
               RenderSettings rs = small(93, 53);
               rs.shading = mode;
               rs.msaa = msaa;
