@@ -37,6 +37,10 @@ uint32_t binBatchLimit();
 // Threads to launch for persistent (grid-stride) loops whose trip count is only
 // known on the device: enough to fill every core or multiprocessor.
 uint32_t persistentThreads();
+// The threads a GPU multiprocessor (an AMD compute unit) holds at once, in
+// whose units Kokkos counts a GPU's concurrency (persistentThreads): 2,048
+// on every NVIDIA generation from Maxwell to Hopper and on AMD's CDNA.
+constexpr uint32_t kThreadsPerMultiprocessor = 2048;
 
 // RasterMethod::Auto: GPUs (measured on an H100, docs/raster-methods.md)
 // favour the visibility buffer's bounded blocks, by 3-20x over binned whose

@@ -41,7 +41,9 @@ namespace {
 using namespace blending;
 
 // Exclusive scan of the work items of one class's raster triangles; the
-// total into totals(slot).
+// total into totals(slot). The BLEND class's also clears the frame's BLEND
+// totals (kBlendFrags on) for blendCollect's passes, which
+// follow it: a launch of their own cost the frame a graph node.
 struct ClassScan {
   DView<RasterTri> tris;
   DView<uint32_t> counters;
@@ -60,10 +62,16 @@ struct ClassScan {
     if (final) {
       start(i) = upd;
       if (i + 1 == capacity) totals(slot) = upd + v;
+      // (kBlendListed too: the counted layout's scan writes it, the strided
+      // one's fill only on overflow.)
+      if (i == 0 && cls == kAlphaBlend)
+        for (int k = kBlendFrags; k < kNumBlendTotals; ++k) totals(k) = 0;
     }
     upd += v;
   }
 };
+static_assert(kMaskItems < kBlendFrags && kBlendItems < kBlendFrags,
+              "the BLEND scan clears the frame's totals, which follow the item counts");
 
 struct MaskRaster {
   AlphaScene sc;

@@ -221,14 +221,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
                   const BlendPlan& b, const DView<uint64_t>& opaqueKeys) {
   BlendBuffers& bb = f.blend;
   const size_t n = size_t(f.vp.width) * size_t(f.vp.height) * size_t(f.vp.samples.count);
-  auto totals = bb.totals;
-  Kokkos::parallel_for("rast::blend::clear_totals", Range(0, 1), KOKKOS_LAMBDA(const int) {
-    totals(kBlendFrags) = 0;
-    totals(kBlendMaxDepth) = 0;
-    totals(kBlendLongest) = 0;
-    totals(kBlendWalked) = 0;
-    totals(kBlendListed) = 0;  // (the counted layout's scan writes it; the strided one's fill, on overflow)
-  });
+  // (The frame's totals: cleared by alphaWorkLists' BLEND scan, ClassScan.)
   if (b.lists) {
     const bool weighted = b.method == Transparency::Weighted;
     tileLists(f, opaqueKeys, weighted, fragFamily(makeFragShade(s, f, p, lights)), !b.shadeDepth);

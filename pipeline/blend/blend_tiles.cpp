@@ -14,7 +14,8 @@
 //     (unless the shade stage writes it: BlendPlan::shadeDepth).
 // Where the last frame's lists were short (listStrideFor), each block's list
 // has fixed room at block x stride instead: tiles_fill alone writes it (its
-// cursor the block's count), and tiles_longest finds the longest; a list
+// cursor the block's count), and tiles_longest finds the longest (the glTF
+// shading's team form: its classification, uniform_blocks.h); a list
 // that outgrows its room makes the frame be drawn again, counted.
 // After shading, resolve: per sample its block's list walked and its
 // fragments composited front to back, peeled K at a time, or summed
@@ -294,10 +295,17 @@ struct PeelLaunch {
   // from these keys' depth (plan.shadeComposite); else the resolve.
   DView<uint64_t> keys;
   template <unsigned kThreads, unsigned kTeams, class Team>
-  static void launchTeams(const Team& team) {
+  static void launchTeams(const Team& team, const bool walkedOnly) {
     using Policy = Kokkos::TeamPolicy<Exec, Kokkos::LaunchBounds<kThreads, kTeams>>;
     const int teamSize = kOnDevice ? Team::kPixels : 1;
-    const int64_t teams = std::min<int64_t>(team.blocks, std::max<int64_t>(1, persistentThreads() / teamSize));
+    // Where the team walks only the listed blocks (their number known on
+    // the device alone; often none), a GPU launches the teams its
+    // multiprocessors hold at once, each striding through the list: the
+    // persistent threads' count started three waves of teams that found
+    // nothing to do.
+    const int64_t most = kOnDevice && walkedOnly ? int64_t(persistentThreads() / kThreadsPerMultiprocessor) * kTeams
+                                                 : int64_t(persistentThreads() / teamSize);
+    const int64_t teams = std::min<int64_t>(team.blocks, std::max<int64_t>(1, most));
     Kokkos::parallel_for(
         "rast::blend::resolve",
         lightweight(Policy(int(teams), teamSize).set_scratch_size(0, Kokkos::PerTeam(Team::scratchFor(team.entries)))),
@@ -305,6 +313,8 @@ struct PeelLaunch {
   }
   template <int kFam, int kFeat>
   void run() const {
+    static_assert(kFam != kFragPbr || uniformBlocksFor<kFam, kFeat>(),
+                  "the glTF shading's team form classifies every block, which finds the longest list (tileLists)");
     const BlendBuffers& bb = f.blend;
     Peel<kFam, kFeat> peel{fs, f.post.hdr, bb.tileCount, bb.tileEnd, bb.tileTris, bb.opaque, bb.totals,
                            bb.tileCapacity, f.vp.width, f.vp.height, blocksX, sorted,
@@ -346,10 +356,11 @@ struct PeelLaunch {
       // The larger scratch under launch bounds that let its teams fit a
       // multiprocessor (Kokkos refuses a scratch that does not). Host
       // backends ignore launch bounds: one instance of the team kernel.
+      constexpr bool kWalked = uniformBlocksFor<kFam, kFeat>();
       if (!kOnDevice || entries <= Team::entriesIn(kBlendTeamScratchBytes))
-        launchTeams<kBlendTeamLaunchBounds[0], kBlendTeamLaunchBounds[1]>(Team{peel, blocks, entries});
+        launchTeams<kBlendTeamLaunchBounds[0], kBlendTeamLaunchBounds[1]>(Team{peel, blocks, entries}, kWalked);
       else if constexpr (kOnDevice)
-        launchTeams<kBlendTeamDeepLaunchBounds[0], kBlendTeamDeepLaunchBounds[1]>(Team{peel, blocks, entries});
+        launchTeams<kBlendTeamDeepLaunchBounds[0], kBlendTeamDeepLaunchBounds[1]>(Team{peel, blocks, entries}, kWalked);
     } else {
       using Policy =
           Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kBlendResolveLaunchBounds[0], kBlendResolveLaunchBounds[1]>>;
@@ -398,7 +409,10 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
     c.fill = 1;
     c.stride = bb.listStride;
     Kokkos::parallel_for("rast::blend::tiles_fill", Policy(0, threads), c);
-    longestList(bb.tileCount, bb.totals, blocks);
+    // The glTF shading's team form classifies every block, reading its
+    // count, and finds the longest list there (UniformBlocks; PeelLaunch
+    // checks that each of its instances does).
+    if (!(fam == kFragPbr && teamForm())) longestList(bb.tileCount, bb.totals, blocks);
   } else {
     Kokkos::parallel_for("rast::blend::tiles_count", Policy(0, threads), c);
     Kokkos::parallel_scan("rast::blend::tiles_layout", Policy(0, blocks), TileScan{bb.tileCount, bb.tileEnd, bb.totals, blocks});

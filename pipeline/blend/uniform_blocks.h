@@ -110,13 +110,15 @@ struct UniformBlocks {
     return open;
   }
 
-  // The list of `block` where the block may be uniform: begin and n (at
-  // most kUniformMax); false where the team walks it.
+  // The length n of `block`'s list (0 past the frame), and where the block
+  // may be uniform its begin (n at most kUniformMax); false where the team
+  // walks it.
   KOKKOS_INLINE_FUNCTION bool listOf(const int64_t block, uint32_t& begin, uint32_t& n) const {
     const P& p = peel;
     n = 0;
-    if (block >= blocks || p.totals(kBlendListed) > p.tileCapacity) return false;  // else the frame is drawn again
-    n = p.tileCount(block);
+    if (block >= blocks) return false;
+    n = p.tileCount(block);  // (on overflow too: the longest list sizes the frame drawn again)
+    if (p.totals(kBlendListed) > p.tileCapacity) return false;  // the frame is drawn again
     begin = p.listBegin(block, n);
     return n <= kUniformMax;
   }
@@ -311,7 +313,10 @@ struct UniformBlocks {
   }
 
   // The team's steps, a barrier apart; its blocks' fragments added to
-  // totals(kBlendFrags) with one atomic.
+  // totals(kBlendFrags) with one atomic, and their longest list raised into
+  // totals(kBlendLongest): the classification reads every block's count, so
+  // the strided layout's frames need no pass of their own for it
+  // (tileLists: tiles_longest).
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
     Scratch sc;
     sc.ent = inTeamScratch(static_cast<Entry*>(
@@ -338,8 +343,20 @@ struct UniformBlocks {
     m.team_barrier();
     if (m.team_rank() == 0) {
       uint64_t sum = 0;
-      for (int b = 0; b < kClassBlocks; ++b) sum += sc.frags[b];
+      uint32_t longest = 0;
+      for (int b = 0; b < kClassBlocks; ++b) {
+        sum += sc.frags[b];
+        longest = sc.count[b] > longest ? sc.count[b] : longest;
+      }
       if (sum) Kokkos::atomic_add(&peel.totals(kBlendFrags), sum);
+      // A plain read first (most teams raise nothing), then the hardware's
+      // maximum: Kokkos (desul) maps a 64-bit one to it for unsigned long
+      // long only, and uint64_t's is a compare-and-swap loop, on which the
+      // frame's teams, all running at once, would queue.
+      static_assert(sizeof(unsigned long long) == sizeof(uint64_t), "the totals are 64-bit");
+      if (longest > peel.totals(kBlendLongest))
+        Kokkos::atomic_fetch_max(reinterpret_cast<unsigned long long*>(&peel.totals(kBlendLongest)),
+                                 static_cast<unsigned long long>(longest));
     }
   }
 };
