@@ -11,6 +11,7 @@
 #include "backends/flatten.h"
 #include "pipeline/data/device_scene.h"
 #include "pipeline/data/frame_buffers.h"
+#include "pipeline/rules/alpha_items.h"
 #include "pipeline/rules/raster_rules.h"
 #include "pipeline/shade/texture_sampling.h"
 #include "host/settings/render_settings.h"
@@ -22,22 +23,6 @@ constexpr int32_t kItemShift = kBlendBlockShift;  // work items are 8x8 pixel bl
 
 // glTF's alpha, made total: [0, 1], NaN as 0 (the fragment is then dropped).
 KOKKOS_INLINE_FUNCTION float cleanAlpha(float a) { return a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f; }
-
-// A raster triangle's box in items (8x8 blocks) and pixels.
-struct ItemBox {
-  int32_t minX, maxX, minY, maxY, bx0, by0, bw;
-  uint32_t items;
-};
-KOKKOS_INLINE_FUNCTION ItemBox itemBox(const RasterTri& t, const Viewport& vp) {
-  ItemBox b;
-  pixelBox(t, vp, b.minX, b.maxX, b.minY, b.maxY);
-  b.bx0 = b.minX >> kItemShift;
-  b.by0 = b.minY >> kItemShift;
-  b.bw = (b.maxX >> kItemShift) - b.bx0 + 1;
-  const int32_t bh = (b.maxY >> kItemShift) - b.by0 + 1;
-  b.items = b.minX <= b.maxX && b.minY <= b.maxY ? uint32_t(b.bw) * uint32_t(bh) : 0u;
-  return b;
-}
 
 // The per-triangle part of a fragment's alpha.
 struct AlphaTri {

@@ -6,6 +6,7 @@
 // minimum: the result does not depend on the method or on the order.
 #include "pipeline/blend/alpha_fragment.h"
 #include "pipeline/blend/blend.h"
+#include "pipeline/geometry/geometry.h"
 
 namespace rast {
 
@@ -43,7 +44,9 @@ using namespace blending;
 // Exclusive scan of the work items of one class's raster triangles; the
 // total into totals(slot). The BLEND class's also clears the frame's BLEND
 // totals (kBlendFrags on) for blendCollect's passes, which
-// follow it: a launch of their own cost the frame a graph node.
+// follow it: a launch of their own cost the frame a graph node. (Where the
+// setup's single-pass scan numbers the BLEND class's items, it does both and
+// this scan is not run for that class: setupNumbersBlendItems.)
 struct ClassScan {
   DView<RasterTri> tris;
   DView<uint32_t> counters;
@@ -55,10 +58,7 @@ struct ClassScan {
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint64_t& upd, const bool final) const {
     const uint32_t n = counters(kRasterTris) < capacity ? counters(kRasterTris) : capacity;
     uint64_t v = 0;
-    if (i < n) {
-      const RasterTri& t = tris(i);
-      if (alphaClassOf(t) == cls) v = itemBox(t, vp).items;
-    }
+    if (i < n) v = classItems(tris(i), vp, cls);
     if (final) {
       start(i) = upd;
       if (i + 1 == capacity) totals(slot) = upd + v;
@@ -114,7 +114,7 @@ struct MaskRaster {
 
 }  // namespace
 
-void alphaWorkLists(const DeviceScene&, FrameBuffers& f, const BlendPlan& b) {
+void alphaWorkLists(const DeviceScene& s, FrameBuffers& f, const BlendPlan& b) {
   BlendBuffers& bb = f.blend;
   if (!bb.totals.data()) bb.totals = allocZeroed<uint64_t>("blend.totals", kNumBlendTotals);
   using Policy = Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>;
@@ -123,7 +123,7 @@ void alphaWorkLists(const DeviceScene&, FrameBuffers& f, const BlendPlan& b) {
     Kokkos::parallel_scan("rast::blend::mask_items", Policy(0, f.triCapacity),
                           ClassScan{f.tris, f.counters, bb.maskStart, bb.totals, f.triCapacity, f.vp, kAlphaMask, kMaskItems});
   }
-  if (b.blend) {
+  if (b.blend && !setupNumbersBlendItems(s.numTris)) {  // else numbered by the setup
     ensureCapacity(bb.blendStart, "blend.blendStart", f.triCapacity);
     Kokkos::parallel_scan("rast::blend::blend_items", Policy(0, f.triCapacity),
                           ClassScan{f.tris, f.counters, bb.blendStart, bb.totals, f.triCapacity, f.vp, kAlphaBlend, kBlendItems});

@@ -287,7 +287,7 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
   if (timer) timer->mark("vertex");
 
   Kokkos::Profiling::pushRegion("rast::setup");
-  primitiveSetup(scene_, frame_, plan.cull, plan.numberBlocks, plan.occluders);
+  primitiveSetup(scene_, frame_, plan.cull, plan.numberBlocks, plan.occluders, plan.blend.blend);
   Kokkos::Profiling::popRegion();
   if (plan.autoStats) rasterStatistics(frame_);
   if (timer) timer->mark("setup");

@@ -30,10 +30,20 @@ KOKKOS_INLINE_FUNCTION mat4f drawMvp(const mat4d& vp, const mat4d& m) {
 
 // Writes f.tris (up to f.triCapacity) and f.counters(kRasterTris); with
 // numberBlocks, also the visbuffer method's work items (f.workOffset,
-// f.chunkBlocks, f.counters(kRasterWork); primitive_setup.cpp).
+// f.chunkBlocks, f.counters(kRasterWork); primitive_setup.cpp). With blend
+// (a frame with BLEND triangles), where setupNumbersBlendItems, also the BLEND
+// class's work items (f.blend.blendStart, f.blend.totals(kBlendItems)) and the
+// frame's other BLEND totals cleared: the alpha classes' scan is then not run
+// for that class (alphaWorkLists).
 // Which back faces the setup culls: none, all (--cull back), or those of
 // single-sided materials (the glTF model, --shading pbr).
 enum class CullFaces : int32_t { None = 0, All = 1, SingleSided = 2 };
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool numberBlocks, bool occluders);
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool numberBlocks, bool occluders,
+                    bool blend);
+
+// Whether the setup of a scene of numTris drawn triangles numbers the BLEND
+// class's work items in its single-pass scan: where it runs one (GPUs, and
+// TestHooks::gpuSetupOnHostTeam), for up to kSetupLookBackMaxChunks chunks.
+bool setupNumbersBlendItems(uint32_t numTris);
 
 }  // namespace rast

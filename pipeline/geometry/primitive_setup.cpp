@@ -32,145 +32,17 @@
 #include <type_traits>
 
 #include "backends/stream_store.h"
+#include "pipeline/rules/alpha_items.h"
 #include "pipeline/rules/raster_rules.h"
 #include "pipeline/rules/visbuffer_blocks.h"
 #include "pipeline/geometry/geometry.h"
+#include "pipeline/geometry/triangle_setup.h"
 #include "pipeline/data/test_hooks.h"
 
 namespace rast {
 namespace {
 
-struct SetupCommon {
-  DView<DrawGPU> draws;
-  DView<uint32_t> drawTriStart;
-  DView<DrawIndex> triDraw;  // DeviceScene::triDraw (empty: search drawTriStart)
-  DView<uint32_t> indices;
-  DView<float4> clip;
-  DView<SnapVert> snap;
-  uint32_t numDraws;
-  Viewport vp;
-  float gx, gy;
-  int32_t cullBack;  // CullFaces: 0 none, 1 every back face, 2 those of single-sided materials
-  // Scenes with MASK or BLEND materials: each draw's AlphaDraw (DeviceScene::alphaDraws),
-  // whose triangles the setup marks (markAlphaClass); unread otherwise.
-  DView<AlphaDraw> alphaDraws;
-  int32_t alphaScene = 0;
-
-  // Drawn-vertex indices of drawn triangle t's corners, its front winding,
-  // whether its back faces are culled, and its alpha class.
-  KOKKOS_INLINE_FUNCTION void corners(uint32_t t, uint32_t (&vi)[3], bool& frontCCW, bool& cull, int32_t& cls) const {
-    const uint32_t d = drawOf(triDraw, drawTriStart, numDraws, t);
-    const DrawGPU& dr = draws(d);
-    const uint32_t base = 3 * (dr.srcTri + (t - dr.dstTri));
-    for (int k = 0; k < 3; ++k) vi[k] = dr.dstVertex + indices(base + k);
-    frontCCW = dr.mirrored == 0;
-    cull = cullBack == 1 || (cullBack == 2 && dr.singleSided);
-    cls = alphaScene ? alphaDraws(d).cls : int32_t(kAlphaOpaque);
-  }
-
-  // Clips drawn triangle t (corners vi) into a convex polygon and sets up its
-  // fan; calls emit(rt) for each raster triangle that survives, in order, and
-  // returns how many did. kDepth: the pieces' depths are wanted (not when
-  // only counting), from the drawn triangle's plane (depth_plane.h).
-  template <bool kDepth, class Emit>
-  KOKKOS_INLINE_FUNCTION uint32_t clipAndSetUp(uint32_t t, const uint32_t (&vi)[3], bool frontCCW, bool cull, int32_t cls,
-                                               Emit&& emit) const {
-    ClipVert poly[kMaxClipVerts];
-    for (int k = 0; k < 3; ++k) poly[k].p = clip(vi[k]);
-    poly[0].b1 = 0.0f; poly[0].b2 = 0.0f;
-    poly[1].b1 = 1.0f; poly[1].b2 = 0.0f;
-    poly[2].b1 = 0.0f; poly[2].b2 = 1.0f;
-    const DepthPlane plane = kDepth ? DepthPlane(poly[0].p, poly[1].p, poly[2].p, vp) : DepthPlane();
-    const int n = clipTriangle(poly, gx, gy);
-    uint32_t k = 0;
-    for (int i = 0; i + 2 < n; ++i) {
-      RasterTri rt;
-      if (!setupTriangle(poly[0], poly[i + 1], poly[i + 2], vp, cull, frontCCW, t, rt)) continue;
-      if (kDepth) depthFromPlane(rt, plane);
-      if (cls != kAlphaOpaque) markAlphaClass(rt, cls);
-      emit(rt);
-      ++k;
-    }
-    return k;
-  }
-};
-
-constexpr uint32_t kSetupChunk = 256;       // drawn triangles per team
-constexpr uint32_t kClippedFlag = 0x80000000u;  // in a scratch count: pieces written later
-
-// Raster triangles drawn triangle t yields, from the vertex stage's snapped
-// corners; `clipped` says the triangle crosses a clipping plane, and then the
-// count comes from clipping it. The corners' codes classify the triangle as
-// clipTriangle would (non-finite or wholly outside one plane: nothing; inside
-// every plane: untouched), and an untouched triangle gets the bits
-// setupTriangle would give it, so the result equals clipping every triangle.
-// `out` holds the raster triangle when the triangle is unclipped and yields one;
-// kDepth: with its corner depths on the unsnapped plane (depth_plane.h), which
-// only the write pass needs. clipCounts: the count pass's counts of clipped
-// triangles, or null to clip and count here. blocks (unless null): the
-// visbuffer's work items of the raster triangles (with clipCounts, a clipped
-// triangle's come from clipBlocks, the count pass's).
-// kCount: a clipped triangle is clipped here to be counted (false: it is
-// flagged clipped and left to the caller, with 0).
-// Forced inline: with the GPU's setup also built for host backends (for
-// TestHooks::gpuSetupOnHostTeam), GCC stopped inlining it into the host
-// functors, and tiny's host setup took 40% longer (22 against 15.5 ms).
-template <bool kDepth, bool kCount = true>
-KOKKOS_FORCEINLINE_FUNCTION uint32_t setupOne(const SetupCommon& c, uint32_t t, RasterTri& out, bool& clipped,
-                                         const uint8_t* clipCounts, uint32_t* blocks = nullptr,
-                                         const uint32_t* clipBlocks = nullptr) {
-  uint32_t vi[3];
-  bool frontCCW, cull;
-  int32_t cls;
-  c.corners(t, vi, frontCCW, cull, cls);
-  SnapVert s[3];
-  uint32_t any = 0, all = ~0u;
-  for (int k = 0; k < 3; ++k) {
-    s[k] = c.snap(vi[k]);
-    const uint32_t code = snapCode(s[k]);
-    any |= code;
-    all &= code;
-  }
-  clipped = false;
-  if (blocks) *blocks = 0;
-  if (any == 0) {  // the common case: inside every plane, w > 0
-    putCorner(out, 0, s[0], 0.0f, 0.0f);
-    putCorner(out, 1, s[1], 1.0f, 0.0f);
-    putCorner(out, 2, s[2], 0.0f, 1.0f);
-    if (kDepth) {
-      const int32_t rx[3] = {fineResidual(s[0].x), fineResidual(s[1].x), fineResidual(s[2].x)};
-      const int32_t ry[3] = {fineResidual(s[0].y), fineResidual(s[1].y), fineResidual(s[2].y)};
-      depthAtSnappedCorners(out, rx, ry);
-    }
-    if (!finishTriangle(c.vp, cull, frontCCW, t, out)) return 0;
-    if (cls != kAlphaOpaque) markAlphaClass(out, cls);
-    uint32_t bw;
-    if (blocks) *blocks = visBlocksOf(out, bw);
-    return 1;
-  }
-  if ((any & kCodeNonFinite) || (all & 0x3fu)) return 0;  // not drawable, or wholly outside one plane
-  if (!(any & 0x3fu)) return 0;                           // inside every plane, but some w <= 0
-  // Beyond a side of the viewport: nothing to clip. Seen from inside a model,
-  // most triangles that cross the near plane are (engine_inside: 990 of 1,000
-  // left no piece), and clipping each, twice, by one thread while its team
-  // waits was most of that view's setup.
-  if (outsideViewportSide(c.clip(vi[0]), c.clip(vi[1]), c.clip(vi[2]))) return 0;
-  clipped = true;
-  if (!kCount) return 0;
-  if (clipCounts) {
-    if (blocks && clipBlocks) *blocks = clipBlocks[t];
-    return clipCounts[t];
-  }
-  return c.clipAndSetUp<false>(t, vi, frontCCW, cull, cls, [&](const RasterTri& piece) {
-    uint32_t bw;
-    if (blocks) *blocks += visBlocksOf(piece, bw);
-  });
-}
-
-KOKKOS_INLINE_FUNCTION uint32_t chunkLength(uint32_t chunk, uint32_t n) {
-  const uint32_t first = chunk * kSetupChunk;
-  return n - first < kSetupChunk ? n - first : kSetupChunk;
-}
+using namespace triangle_setup;
 
 // The GPU's count pass, for scenes of more than kSetupLookBackMaxChunks
 // chunks: one team per chunk counts its raster triangles (and, with blocks,
@@ -263,6 +135,22 @@ constexpr uint32_t kStageStride = kTriQuads + 1;
 constexpr uint32_t kStatusWords = 4;
 enum : uint32_t { kAggTris = 0, kAggItems, kIncTris, kIncItems };
 KOKKOS_INLINE_FUNCTION uint64_t statusWord(uint32_t tag, uint32_t value) { return uint64_t(tag) << 32 | value; }
+// Frames whose setup numbers the BLEND class's work items (setupNumbersBlendItems)
+// publish their 64-bit counts too, each as two words of 32 bits (low, high),
+// kBlendWords a chunk after every chunk's kStatusWords: frames without BLEND
+// materials read what they did.
+constexpr uint32_t kBlendWords = 4;
+// A chunk's raster triangles and BLEND items in one 64-bit scan (WriteChunks):
+// the one above bit kPieceShift, the other below. A drawn triangle yields at
+// most kMaxClipVerts - 2 raster triangles, each of at most
+// (kMaxFramebufferSide / 8)^2 items.
+constexpr int kPieceShift = 40;
+static_assert(uint64_t(kSetupChunk) * (kMaxClipVerts - 2) < (uint64_t(1) << (64 - kPieceShift)) &&
+                  uint64_t(kSetupChunk) * (kMaxClipVerts - 2) * uint64_t(kMaxFramebufferSide >> kBlendBlockShift) *
+                          uint64_t(kMaxFramebufferSide >> kBlendBlockShift) < (uint64_t(1) << kPieceShift),
+              "a chunk's raster triangles and BLEND items share a 64-bit scan");
+enum : uint32_t { kAggBlendLo = 0, kAggBlendHi, kIncBlendLo, kIncBlendHi };
+KOKKOS_INLINE_FUNCTION uint64_t halvesValue(uint64_t lo, uint64_t hi) { return uint64_t(uint32_t(hi)) << 32 | uint32_t(lo); }
 // Predecessors whose status one look-back step reads at once.
 constexpr uint32_t kLookBackBatch = 4;
 
@@ -286,12 +174,27 @@ struct WriteChunks {
   DView<uint8_t> clipCount;
   DView<uint64_t> workHint;  // with blocks (visbuffer_blocks.h)
   OccluderList occ;          // with blocks, single-sample frames (visbuffer_blocks.h)
+  // With look-back: number the BLEND class's work items (each raster
+  // triangle's first into blendStart, the total into blendTotals(kBlendItems))
+  // and clear the frame's other BLEND totals, as the alpha classes' scan
+  // does where the setup does not (alpha_passes.cpp).
+  int32_t blendItems = 0;
+  DView<uint64_t> blendStart, blendTotals;
 
   static size_t scratchBytes() {
     // Kept under 32 KiB: at 32.1 KiB (a second scan array) the H100's setup
     // took 1-3 us more a frame; a switch of the shared-memory carve-out
     // between kernels is the likely cause, not a measured one.
-    return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 3 * sizeof(uint32_t) * (kSetupChunk + 1) + 64;
+    // A staged triangle's padding piece (the kTriQuads-th) holds its BLEND
+    // items and their scan: no array of its own.
+    return sizeof(Quad) * (kSetupChunk * kStageStride + 1) + 3 * sizeof(uint32_t) * (kSetupChunk + 1) + 80;
+  }
+
+  // The frame's BLEND work items, and its other BLEND totals cleared for the
+  // passes that count into them (the last chunk's thread).
+  KOKKOS_INLINE_FUNCTION void frameBlendTotals(uint64_t total) const {
+    blendTotals(kBlendItems) = total;
+    for (int k = kBlendFrags; k < kNumBlendTotals; ++k) blendTotals(k) = 0;
   }
 
   // One thread: publish this chunk's totals, add up the chunks before it, and
@@ -300,47 +203,70 @@ struct WriteChunks {
   // takes them in order: aggregates until the nearest inclusive total; a
   // predecessor with neither is read again in the next step. (One at a time,
   // each step waited a memory round trip.)
-  KOKKOS_INLINE_FUNCTION void lookBack(uint32_t chunk, uint32_t tot, uint32_t items, uint32_t& baseTris,
-                                       uint32_t& baseItems) const {
+  // With blendItems, the chunk's BLEND items (blend) go the same way
+  // (baseBlend), in their own words: a predecessor's totals are taken when
+  // all of its words are this frame's.
+  KOKKOS_INLINE_FUNCTION void lookBack(uint32_t chunk, uint32_t tot, uint32_t items, uint64_t blend,
+                                       uint32_t& baseTris, uint32_t& baseItems, uint64_t& baseBlend) const {
     baseTris = 0;
     baseItems = 0;
+    baseBlend = 0;
     if (chunks == 1) {  // nobody looks back at it
       counters(kRasterTris) = tot;
       if (blocks) counters(kRasterWork) = items;
+      if (blendItems) frameBlendTotals(blend);
       return;
     }
     const uint32_t tag = frame(0).frame;
     volatile uint64_t* st = status.data();
+    volatile uint64_t* sb = st + size_t(chunks) * kStatusWords;  // the BLEND items' words
+    const bool bl = blendItems != 0;
     auto ready = [tag](uint64_t w) { return uint32_t(w >> 32) == tag; };
     if (chunk > 0) {
       st[chunk * kStatusWords + kAggTris] = statusWord(tag, tot);
       st[chunk * kStatusWords + kAggItems] = statusWord(tag, items);
+      if (bl) {
+        sb[chunk * kBlendWords + kAggBlendLo] = statusWord(tag, uint32_t(blend));
+        sb[chunk * kBlendWords + kAggBlendHi] = statusWord(tag, uint32_t(blend >> 32));
+      }
       // Predecessors below p are still to add. Chunk 0 publishes its
       // inclusive totals at once (no aggregate): p never passes it.
       for (uint32_t p = chunk, done = 0; !done;) {
-        uint64_t w[kLookBackBatch][kStatusWords];
-        for (uint32_t j = 0; j < kLookBackBatch; ++j)
+        uint64_t w[kLookBackBatch][kStatusWords], v[kLookBackBatch][kBlendWords];
+        for (uint32_t j = 0; j < kLookBackBatch; ++j) {
           for (uint32_t k = 0; k < kStatusWords; ++k) w[j][k] = j < p ? st[(p - 1 - j) * kStatusWords + k] : 0u;
+          for (uint32_t k = 0; k < kBlendWords; ++k) v[j][k] = bl && j < p ? sb[(p - 1 - j) * kBlendWords + k] : 0u;
+        }
         uint32_t j = 0;
         for (; j < kLookBackBatch && j < p; ++j) {
-          if (ready(w[j][kIncTris]) && ready(w[j][kIncItems])) {
+          if (ready(w[j][kIncTris]) && ready(w[j][kIncItems]) &&
+              (!bl || (ready(v[j][kIncBlendLo]) && ready(v[j][kIncBlendHi])))) {
             baseTris += uint32_t(w[j][kIncTris]);
             baseItems += uint32_t(w[j][kIncItems]);
+            if (bl) baseBlend += halvesValue(v[j][kIncBlendLo], v[j][kIncBlendHi]);
             done = 1;
             break;
           }
-          if (!ready(w[j][kAggTris]) || !ready(w[j][kAggItems])) break;  // not yet: read it again
+          if (!ready(w[j][kAggTris]) || !ready(w[j][kAggItems]) ||
+              (bl && (!ready(v[j][kAggBlendLo]) || !ready(v[j][kAggBlendHi]))))
+            break;  // not yet: read it again
           baseTris += uint32_t(w[j][kAggTris]);
           baseItems += uint32_t(w[j][kAggItems]);
+          if (bl) baseBlend += halvesValue(v[j][kAggBlendLo], v[j][kAggBlendHi]);
         }
         p -= done ? 0u : j;
       }
     }
     st[chunk * kStatusWords + kIncTris] = statusWord(tag, baseTris + tot);
     st[chunk * kStatusWords + kIncItems] = statusWord(tag, baseItems + items);
+    if (bl) {
+      sb[chunk * kBlendWords + kIncBlendLo] = statusWord(tag, uint32_t(baseBlend + blend));
+      sb[chunk * kBlendWords + kIncBlendHi] = statusWord(tag, uint32_t((baseBlend + blend) >> 32));
+    }
     if (chunk + 1 == chunks) {
       counters(kRasterTris) = baseTris + tot;
       if (blocks) counters(kRasterWork) = baseItems + items;
+      if (bl) frameBlendTotals(baseBlend + blend);
     }
   }
 
@@ -350,7 +276,9 @@ struct WriteChunks {
     uint32_t* count = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
     uint32_t* offset = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
     uint32_t* blk = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * kSetupChunk, sizeof(uint32_t)));
-    uint32_t* shared = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * 4, sizeof(uint32_t)));
+    // [0] ticket, [1] first raster triangle, [2] first item, [3] the last
+    // triangle's items, [4..5] first BLEND item (low, high)
+    uint32_t* shared = static_cast<uint32_t*>(shmem.get_shmem_aligned(sizeof(uint32_t) * 8, sizeof(uint32_t)));
     // 0. This team's chunk: by ticket, so that earlier chunks are running.
     //    The last ticket's holder resets the counter for the next frame (all
     //    tickets are drawn by then).
@@ -370,10 +298,12 @@ struct WriteChunks {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
       bool clipped;
       RasterTri rt;
-      uint32_t b = 0;
+      uint32_t b = 0, bi = 0;
       const uint32_t k = setupOne<true>(c, first + i, rt, clipped, lookBackMode ? nullptr : clipCount.data(),
-                                        blocks ? &b : nullptr, lookBackMode || !blocks ? nullptr : clipBlocks.data());
+                                        blocks ? &b : nullptr, lookBackMode || !blocks ? nullptr : clipBlocks.data(),
+                                        blendItems ? &bi : nullptr);
       count[i] = clipped ? (k | kClippedFlag) : k;
+      if (blendItems) staged[i * kStageStride + kTriQuads].w[0] = bi;
       blk[i] = b;
       if (i + 1 == len) shared[3] = b;  // the scan below overwrites blk in place
       if (k == 1 && !clipped) {
@@ -384,11 +314,28 @@ struct WriteChunks {
     });
     m.team_barrier();
     // 2. Where each triangle's pieces (and items) go within the chunk's.
-    Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
-      const uint32_t k = count[i] & ~kClippedFlag;
-      if (final) offset[i] = upd;
-      upd += k;
-    });
+    //    With blendItems, one 64-bit scan numbers the pieces (above bit
+    //    kPieceShift) and the BLEND items (below), each triangle's first
+    //    BLEND item into its padding piece: a second scan cost the frame's
+    //    setup a microsecond.
+    if (blendItems)
+      Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint64_t& upd, const bool final) {
+        Quad& q = staged[i * kStageStride + kTriQuads];
+        const uint64_t v = uint64_t(count[i] & ~kClippedFlag) << kPieceShift | q.w[0];
+        if (final) {
+          offset[i] = uint32_t(upd >> kPieceShift);
+          const uint64_t b = upd & ((uint64_t(1) << kPieceShift) - 1);
+          q.w[2] = uint32_t(b);
+          q.w[3] = uint32_t(b >> 32);
+        }
+        upd += v;
+      });
+    else
+      Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
+        const uint32_t k = count[i] & ~kClippedFlag;
+        if (final) offset[i] = upd;
+        upd += k;
+      });
     if (blocks)
       Kokkos::parallel_scan(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i, uint32_t& upd, const bool final) {
         const uint32_t v = blk[i];
@@ -396,6 +343,11 @@ struct WriteChunks {
         upd += v;
       });
     m.team_barrier();
+    // A staged triangle's first BLEND item within the chunk's.
+    auto blendFirst = [&](uint32_t i) {
+      const Quad& q = staged[i * kStageStride + kTriQuads];
+      return uint64_t(q.w[3]) << 32 | q.w[2];
+    };
     // 3. Where the chunk's go: after the chunks before it.
     Kokkos::single(Kokkos::PerTeam(m), [&]() {
       if (!lookBackMode) {
@@ -405,10 +357,15 @@ struct WriteChunks {
       }
       const uint32_t tot = len ? offset[len - 1] + (count[len - 1] & ~kClippedFlag) : 0u;
       const uint32_t items = blocks && len ? blk[len - 1] + shared[3] : 0u;
-      lookBack(chunk, tot, items, shared[1], shared[2]);
+      const uint64_t blend = blendItems && len ? blendFirst(len - 1) + staged[(len - 1) * kStageStride + kTriQuads].w[0] : 0u;
+      uint64_t baseBlend;
+      lookBack(chunk, tot, items, blend, shared[1], shared[2], baseBlend);
+      shared[4] = uint32_t(baseBlend);
+      shared[5] = uint32_t(baseBlend >> 32);
     });
     m.team_barrier();
     const uint32_t base = shared[1], itemBase = shared[2];
+    const uint64_t blendBase = uint64_t(shared[5]) << 32 | shared[4];
     // 4. Unclipped triangles, copied piece by piece: neighbouring threads
     //    write neighbouring 16 bytes (coalesced on a GPU).
     Quad* dst = reinterpret_cast<Quad*>(tris.data());
@@ -425,7 +382,9 @@ struct WriteChunks {
     Kokkos::parallel_for(Kokkos::TeamThreadRange(m, len), [&](const uint32_t i) {
       uint32_t o = base + offset[i];
       uint32_t item = itemBase + (blocks ? blk[i] : 0u);
+      uint64_t blendItem = blendItems ? blendBase + blendFirst(i) : 0u;
       if (!(count[i] & kClippedFlag)) {
+        if (blendItems && count[i] == 1u && o < capacity) blendStart(o) = blendItem;
         if (blocks && count[i] == 1u && o < capacity) {
           workOffset(o) = item;
           const uint32_t end = itemBase + (i + 1 < len ? blk[i + 1] : blk[len - 1] + shared[3]);
@@ -441,6 +400,7 @@ struct WriteChunks {
       c.clipAndSetUp<true>(first + i, vi, frontCCW, cull, cls, [&](const RasterTri& rt) {
         if (o < capacity) {
           tris(o) = rt;
+          if (blendItems) blendStart(o) = blendItem;
           uint32_t bw;
           if (blocks) {
             workOffset(o) = item;
@@ -450,6 +410,7 @@ struct WriteChunks {
             item = end;
           }
         }
+        if (blendItems) blendItem += classItems(rt, c.vp, kAlphaBlend);
         ++o;
       });
     });
@@ -619,7 +580,7 @@ struct SetupChunksHost {
 // SetupChunksHost on host backends (not built for GPUs).
 template <bool kHost>
 void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_t numTris, bool blocks, int teamSize,
-                 const OccluderList& occ) {
+                 const OccluderList& occ, bool blendItems) {
   if constexpr (kHost) {
     using Host = std::conditional_t<kHost, SetupChunksHost, void>;  // dependent: not built for GPUs
     const int32_t stream = testHooks().hostSetupStream != 0 ? testHooks().hostSetupStream > 0
@@ -637,8 +598,9 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
     // count pass first.
     const bool lookBack = chunks <= kSetupLookBackMaxChunks;
     ensureCapacity(f.chunkOffset, "frame.setupChunkOffset", chunks);
-    if (lookBack && f.setupStatus.extent(0) < size_t(chunks) * kStatusWords)  // zeroed: no flag of a frame yet
-      f.setupStatus = allocZeroed<uint64_t>("frame.setupStatus", size_t(chunks) * kStatusWords);
+    const size_t words = size_t(chunks) * (kStatusWords + kBlendWords);
+    if (lookBack && f.setupStatus.extent(0) < words)  // zeroed: no flag of a frame yet
+      f.setupStatus = allocZeroed<uint64_t>("frame.setupStatus", words);
     if (!lookBack) {
       ensureCapacity(f.clipCount, "frame.setupClipCount", numTris);
       ensureCapacity(f.chunkBlocks, "frame.setupChunkBlocks", chunks);
@@ -652,14 +614,27 @@ void launchSetup(const SetupCommon& c, FrameBuffers& f, uint32_t chunks, uint32_
                              .set_scratch_size(0, Kokkos::PerTeam(WriteChunks::scratchBytes())),
                          WriteChunks{c, f.setupStatus, f.counters, f.workOffset, f.uniforms, f.tris, f.triCapacity, numTris,
                                      chunks, blocks ? 1 : 0, lookBack ? 1 : 0, f.chunkOffset, f.chunkBlocks, f.clipBlocks,
-                                     f.clipCount, blocks ? f.workHint : DView<uint64_t>(), occ});
+                                     f.clipCount, blocks ? f.workHint : DView<uint64_t>(), occ, blendItems ? 1 : 0,
+                                     f.blend.blendStart, f.blend.totals});
   }
 }
 
 }  // namespace
 
-void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool numberBlocks, bool occluders) {
+bool setupNumbersBlendItems(uint32_t numTris) {
+  const uint32_t chunks = (numTris + kSetupChunk - 1) / kSetupChunk;
+  const bool writeChunks = kOnDevice || testHooks().gpuSetupOnHostTeam > 0;  // primitiveSetup's choice
+  return writeChunks && chunks > 0 && chunks <= kSetupLookBackMaxChunks;
+}
+
+void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool numberBlocks, bool occluders,
+                    bool blend) {
   const uint32_t chunks = (s.numTris + kSetupChunk - 1) / kSetupChunk;
+  const bool blendItems = blend && setupNumbersBlendItems(s.numTris);
+  if (blendItems) {
+    if (!f.blend.totals.data()) f.blend.totals = allocZeroed<uint64_t>("blend.totals", kNumBlendTotals);
+    ensureCapacity(f.blend.blendStart, "blend.blendStart", f.triCapacity);
+  }
   if (numberBlocks) {
     ensureCapacity(f.workOffset, "frame.workOffset", f.triCapacity);
     // A hint per raster triangle, and a few more for scenes of large ones;
@@ -681,9 +656,9 @@ void primitiveSetup(const DeviceScene& s, FrameBuffers& f, CullFaces cull, bool 
                 s.hasAlphaClasses() ? 1 : 0};
   const int gpuTeamOnHost = testHooks().gpuSetupOnHostTeam;
   if (chunks > 0 && !kOnDevice && gpuTeamOnHost > 0) {
-    launchSetup<false>(c, f, chunks, s.numTris, numberBlocks, gpuTeamOnHost, occ);
+    launchSetup<false>(c, f, chunks, s.numTris, numberBlocks, gpuTeamOnHost, occ, blendItems);
   } else if (chunks > 0) {
-    launchSetup<!kOnDevice>(c, f, chunks, s.numTris, numberBlocks, kTeamSize, occ);
+    launchSetup<!kOnDevice>(c, f, chunks, s.numTris, numberBlocks, kTeamSize, occ, blendItems);
   } else {  // no triangles: no raster triangles or items
     auto counters = f.counters;
     Kokkos::parallel_for("rast::setup::none", Range(0, 1), KOKKOS_LAMBDA(const int) {
