@@ -35,6 +35,11 @@ struct BlendPlan {
   // composites their pixels as it shades them (ShadeBlend): no pass of its
   // own reads and writes the film for them. Implies shadeDepth.
   bool shadeComposite = false;
+  // With shadeComposite and encode: the pixels that the shade stage
+  // composites get their bytes and no film value, which nothing reads after
+  // them (the film is not an output of such a frame; Renderer::filmBottomUp).
+  // Not under TestHooks::keepFilm, for tests that compare films.
+  bool filmless = false;
 };
 
 // Whether `method` walks tile lists, `fallback` telling that they would

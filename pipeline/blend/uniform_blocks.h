@@ -10,7 +10,7 @@
 // (rast::blend::uniform_blocks); the team then walks only the listed blocks
 // (PeelTeam). At one sample this runs before shading, from the opaque keys,
 // and the shade stage writes each uniform pixel's composite over the colour
-// it shades (BlendPlan::shadeComposite, Shade::blendOver: the film read and
+// it shades (BlendPlan::shadeComposite, Shade::blendFilm: the film read and
 // written once less); else, after shading, a thread a pixel writes it over
 // the film's opaque colour (rast::blend::uniform_pixels). Kernels of their
 // own and not steps of the team: classifying inside the team (a team

@@ -11,7 +11,7 @@ TestHooks& testHooks() {
 std::string TestHooks::key() const {
   const int32_t v[] = {gpuSetupOnHostTeam, hostSetupStaged, hostSetupStream, generalShade ? 1 : 0, rowLanes, shadeRun,
                      teamResolve ? 1 : 0, peelRows ? 1 : 0, chainEncode ? 1 : 0,
-                     int32_t(listStride)};
+                     int32_t(listStride), keepFilm ? 1 : 0};
   return std::string(reinterpret_cast<const char*>(v), sizeof v);
 }
 

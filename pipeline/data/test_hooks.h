@@ -53,6 +53,11 @@ struct TestHooks {
   // the last frame's lists fit it (a GPU's, kBlendListStride) on any
   // backend; 0: as the backend decides.
   uint32_t listStride = 0;
+  // true: every frame writes the whole float film, also where its colour's
+  // bytes are written without it (BlendPlan::filmless), for tests that
+  // compare films (tests/support/test_main.cpp sets it; the tests of the
+  // filmless frames clear it).
+  bool keepFilm = false;
 
   // The values as bytes, for the frame plan's key.
   std::string key() const;

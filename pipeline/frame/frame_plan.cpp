@@ -167,6 +167,7 @@ FramePlan planFrame(const RenderSettings& rs, const PlanInputs& in) {
   // Its team form's uniform blocks classified before shading and composited
   // by that kernel as it shades them (uniform_blocks.h).
   p.blend.shadeComposite = p.blend.shadeDepth && blendShadeComposites(p.shadeParams);
+  p.blend.filmless = p.blend.shadeComposite && p.blend.encode && !testHooks().keepFilm;
 
   // Everything the frame's launches depend on besides device memory: a
   // recorded frame is replayed only under the same key (frame_graphs.h).

@@ -349,6 +349,7 @@ void Renderer::launchFrame(const FramePlan& plan, StageTimer* timer) {
         sb.encode = plan.blend.encode;
         sb.raw = plan.blend.raw;
         sb.straight = plan.blend.straight;
+        sb.filmless = plan.blend.filmless;
       }
       shadeStage(scene_, frame_, plan.shadeParams, lights_, sb);
       break;

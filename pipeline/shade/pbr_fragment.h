@@ -370,7 +370,7 @@ struct PbrFrag {
   PbrTri t;
 };
 
-// kBlend: the pixels may take BLEND layers' composite (Shade::blendOver;
+// kBlend: the pixels may take BLEND layers' composite (Shade::blendFilm;
 // BlendPlan::shadeComposite). A GPU builds the opaque frames' instances
 // without it: its check a column cost their shading 1 us of 36 (H200, 1080p).
 template <int kFeat, bool kInterleaved, bool kBlend>
@@ -381,9 +381,10 @@ struct ShadePbr {
     if constexpr (kBlend) return k.blendAt(X, Y);
     return Shade::BlendAt{float4{0.0f, 0.0f, 0.0f, 0.0f}, 0};
   }
-  KOKKOS_FORCEINLINE_FUNCTION float4 blendOver(const int64_t i, const Shade::BlendAt& bl, const float4 c) const {
-    if constexpr (kBlend) return k.blendOver(i, bl, c);
-    return c;
+  // The film's pixel i shaded c (Shade::blendFilm).
+  KOKKOS_FORCEINLINE_FUNCTION void film(const int64_t i, const Shade::BlendAt& bl, const float4 c) const {
+    if constexpr (kBlend) k.blendFilm(i, bl, c);
+    else k.hdr(i) = c;
   }
 
   KOKKOS_FORCEINLINE_FUNCTION void use(uint32_t index, PbrFrag& q) const {
@@ -421,12 +422,14 @@ struct ShadePbr {
   KOKKOS_FORCEINLINE_FUNCTION void single(const int64_t i, const int32_t X, const int32_t Y, PbrFrag& q,
                                           const uint64_t key0, const Shade::BlendAt& bl) const {
     if (k.clearVis && key0 != kClearKey) k.vis(i) = kClearKey;
-    if (k.opaqueDepth.data()) k.opaqueDepth(i) = uint32_t(key0 >> 32);  // (the listed BLEND methods')
+    // The listed BLEND methods' opaque depth, which only the walked blocks'
+    // resolve reads after shading: not where the pixel's block is composited here.
+    if (k.opaqueDepth.data() && !bl.over) k.opaqueDepth(i) = uint32_t(key0 >> 32);
     k.resetBlock(X, Y);
     k.writeIds(i, key0);
     const uint32_t idx0 = uint32_t(key0 & 0xffffffffu);
     if (!idx0) {  // background: its outputs without a fragment's (viewGeometry of a zero normal is zero)
-      if (k.p.floatOut) k.hdr(i) = blendOver(i, bl, k.p.backgroundFilm);
+      if (k.p.floatOut) film(i, bl, k.p.backgroundFilm);
       else k.color(i) = k.p.backgroundPacked;
       if (k.p.wantNormals) k.normalOut(i) = float3{0.0f, 0.0f, 0.0f};
       if (k.p.wantGeom) k.writeGeometry(i, float4{0.0f, 0.0f, 0.0f, 0.0f});
@@ -435,7 +438,7 @@ struct ShadePbr {
     float3 n0{0.0f, 0.0f, 0.0f}, p0{0.0f, 0.0f, 0.0f};
     use(idx0 - 1, q);
     if (k.p.floatOut)
-      k.hdr(i) = blendOver(i, bl, fragment(q, X, Y, n0, &p0));
+      film(i, bl, fragment(q, X, Y, n0, &p0));
     else
       k.color(i) = k.template display<true>(fragment(q, X, Y, n0, nullptr));
     if (k.p.wantNormals) k.normalOut(i) = n0;

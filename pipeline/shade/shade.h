@@ -56,6 +56,8 @@ struct ShadeBlend {
   DView<float4> composite;
   DView<uint32_t> frags;
   bool encode = false, raw = false, straight = false;
+  // With encode: such a pixel's film value is not written (BlendPlan::filmless).
+  bool filmless = false;
 };
 void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                 const ShadeBlend& blend = ShadeBlend());

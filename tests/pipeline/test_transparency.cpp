@@ -530,7 +530,7 @@ TEST_CASE("BLEND: the glTF shading's kernel writes the opaque depth that the res
         written = a.render(defaultCamera(s), rs);
         CHECK(a.lastPlan().blend.shadeDepth);
         // The team form's uniform blocks classified before shading and
-        // composited by the kernel (Shade::blendOver), against the pass
+        // composited by the kernel (Shade::blendFilm), against the pass
         // after shading that the general kernel keeps: the same bits.
         CHECK(a.lastPlan().blend.shadeComposite == (team || kOnDevice));
         PerPixel g;

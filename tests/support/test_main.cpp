@@ -11,11 +11,19 @@
 namespace {
 
 // Every test case starts with the pipeline's test hooks at their defaults
-// (pipeline/data/test_hooks.h), whatever the case before it set or how it ended.
+// (pipeline/data/test_hooks.h), whatever the case before it set or how it ended,
+// but for keepFilm: tests compare the float film (Renderer::filmBottomUp) also
+// of frames whose output is their colour's bytes, where a frame may leave
+// pixels of it unwritten (BlendPlan::filmless; test_blend_film.cpp checks those).
+rast::TestHooks testDefaults() {
+  rast::TestHooks h;
+  h.keepFilm = true;
+  return h;
+}
 struct ResetTestHooks : Catch::TestEventListenerBase {
   using TestEventListenerBase::TestEventListenerBase;
-  void testCaseStarting(const Catch::TestCaseInfo&) override { rast::testHooks() = rast::TestHooks{}; }
-  void testCaseEnded(const Catch::TestCaseStats&) override { rast::testHooks() = rast::TestHooks{}; }
+  void testCaseStarting(const Catch::TestCaseInfo&) override { rast::testHooks() = testDefaults(); }
+  void testCaseEnded(const Catch::TestCaseStats&) override { rast::testHooks() = testDefaults(); }
 };
 
 }  // namespace
