@@ -157,7 +157,7 @@ TEST_CASE("a moving camera over BLEND layers gives the frames of fresh renderers
       INFO("transparency " << toString(method) << ", shading " << toString(mode));
       // Fresh frames first: their allocations would drop the recordings.
       struct Fresh {
-        std::vector<float4> film;
+        std::vector<rast::float4> film;
         std::vector<uint32_t> ids;
         std::vector<float> depth;
       };
@@ -172,12 +172,12 @@ TEST_CASE("a moving camera over BLEND layers gives the frames of fresh renderers
       for (size_t i = 0; i < cams.size(); ++i) {
         INFO("frame " << i);
         r.render(cams[i], rs);
-        const std::vector<float4> film = r.filmBottomUp();
+        const std::vector<rast::float4> film = r.filmBottomUp();
         REQUIRE(film.size() == fresh[i].film.size());
-        REQUIRE(std::memcmp(film.data(), fresh[i].film.data(), film.size() * sizeof(float4)) == 0);
+        REQUIRE(std::memcmp(film.data(), fresh[i].film.data(), film.size() * sizeof(rast::float4)) == 0);
         REQUIRE(r.primIdsBottomUp() == fresh[i].ids);
         REQUIRE(r.depthBottomUp() == fresh[i].depth);
-        if (i > 0) differ += std::memcmp(film.data(), fresh[0].film.data(), film.size() * sizeof(float4)) != 0;
+        if (i > 0) differ += std::memcmp(film.data(), fresh[0].film.data(), film.size() * sizeof(rast::float4)) != 0;
       }
       CHECK(differ == cams.size() - 1);  // every view changed the image
     }
