@@ -227,7 +227,7 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   k.blendEncode = blend.encode ? 1 : 0;
   k.blendRaw = blend.raw ? 1 : 0;
   k.blendStraight = blend.straight ? 1 : 0;
-  k.blendFilmless = blend.encode && blend.filmless ? 1 : 0;
+  k.blendFilmless = blend.filmless ? 1 : 0;
   launchShade(k, Range(0, k.workItems()));
   f.visClear = true;
 }
