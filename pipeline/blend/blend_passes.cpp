@@ -189,7 +189,7 @@ bool blendResolveEncodes(const ShadeParams& p) {
 }
 
 bool blendShadeComposites(const ShadeParams& p) {
-  return blending::teamForm() && blending::fragFamily(p) == blending::kFragPbr;
+  return blending::uniformBlocksOn(blending::fragFamily(p));
 }
 
 bool blendLaunchesLightweight(const BlendPlan& b, const ShadeParams& p) {

@@ -166,7 +166,7 @@ struct TileScan {
   KOKKOS_INLINE_FUNCTION void operator()(const uint32_t i, uint64_t& upd, const bool final) const {
     const uint32_t v = tileCount(i);
     if (final) {
-      if (v > totals(kBlendLongest)) Kokkos::atomic_fetch_max(&totals(kBlendLongest), uint64_t(v));
+      raiseTotal(totals(kBlendLongest), v);
       tileEnd(i) = uint32_t(upd);
       if (i + 1 == n) totals(kBlendListed) = upd + v;
     }
@@ -272,7 +272,7 @@ struct TileLongest {
     Kokkos::parallel_reduce(
         Kokkos::TeamThreadRange(m, b0, b1), [&](const uint32_t b, uint32_t& v) { v = tileCount(b) > v ? tileCount(b) : v; },
         Kokkos::Max<uint32_t>(most));
-    if (m.team_rank() == 0 && most) Kokkos::atomic_fetch_max(&totals(kBlendLongest), uint64_t(most));
+    if (m.team_rank() == 0 && most) raiseTotal(totals(kBlendLongest), most);
   }
 };
 void longestList(const DView<uint32_t>& tileCount, const DView<uint64_t>& totals, const uint32_t blocks) {
@@ -384,13 +384,13 @@ bool teamForm() { return kOnDevice || testHooks().teamResolve; }
 void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool rasterOrder, const FragFamily fam,
                const bool copyDepth) {
   BlendBuffers& bb = f.blend;
-  const uint32_t blocksX = uint32_t(f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
-  const uint32_t blocks = blocksX * (uint32_t(f.vp.height + (1 << kItemShift) - 1) >> kItemShift);
+  const uint32_t blocksX = uint32_t(blendBlocks(f.vp.width));
+  const uint32_t blocks = blocksX * uint32_t(blendBlocks(f.vp.height));
   const size_t n = size_t(f.vp.width) * size_t(f.vp.height) * size_t(f.vp.samples.count);
   ensureCapacity(bb.tileCount, "blend.tileCount", blocks);
   ensureCapacity(bb.tileEnd, "blend.tileEnd", blocks);
   ensureCapacity(bb.opaque, "blend.opaque", n);
-  if (fam == kFragPbr && teamForm()) {  // the uniform blocks (uniform_blocks.h)
+  if (uniformBlocksOn(fam)) {  // the uniform blocks (uniform_blocks.h)
     ensureCapacity(bb.blockComposite, "blend.blockComposite", blocks);
     ensureCapacity(bb.blockFrags, "blend.blockFrags", blocks);
     ensureCapacity(bb.walkedBlocks, "blend.walkedBlocks", blocks);
@@ -412,7 +412,7 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
     // The glTF shading's team form classifies every block, reading its
     // count, and finds the longest list there (UniformBlocks; PeelLaunch
     // checks that each of its instances does).
-    if (!(fam == kFragPbr && teamForm())) longestList(bb.tileCount, bb.totals, blocks);
+    if (!uniformBlocksOn(fam)) longestList(bb.tileCount, bb.totals, blocks);
   } else {
     Kokkos::parallel_for("rast::blend::tiles_count", Policy(0, threads), c);
     Kokkos::parallel_scan("rast::blend::tiles_layout", Policy(0, blocks), TileScan{bb.tileCount, bb.tileEnd, bb.totals, blocks});
@@ -445,8 +445,8 @@ void launchPeel(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
                 const BlendPlan& b, const DView<uint64_t>& keys) {
   const Transparency method = b.method;
   const BlendBuffers& bb = f.blend;
-  const int32_t blocksX = (f.vp.width + (1 << kItemShift) - 1) >> kItemShift;
-  const int64_t blocks = int64_t(blocksX) * ((f.vp.height + (1 << kItemShift) - 1) >> kItemShift);
+  const int32_t blocksX = blendBlocks(f.vp.width);
+  const int64_t blocks = int64_t(blocksX) * blendBlocks(f.vp.height);
   const int64_t items = kPeelRun == 1 ? blocks << (2 * kItemShift) : blocks;
   // The fragment count summed over threads into totals(kBlendFrags), not
   // one atomic a pixel; the depth's maximum (cleared with it by blendCollect)

@@ -316,6 +316,10 @@ void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, co
 // Whether the specialised fragment families resolve a team a block (GPUs;
 // host backends under TestHooks::teamResolve).
 bool teamForm();
+// Whether family `fam` resolves with the uniform blocks (uniform_blocks.h):
+// the glTF shading in its team form. The lists' buffers, the classification,
+// the longest list's count and the shade stage's composite all follow it.
+inline bool uniformBlocksOn(const FragFamily fam) { return fam == kFragPbr && teamForm(); }
 // Where the shade stage composites the uniform blocks (BlendPlan::shadeComposite):
 // their classification (uniform_blocks.h), after the lists and before
 // shading, from the opaque keys' depth.

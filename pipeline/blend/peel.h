@@ -407,7 +407,7 @@ struct Peel {
   // The same for many samples: n fragments, at most deepest at one.
   RAST_GPU_INLINE void count(const uint64_t n, const uint32_t deepest, uint64_t& frags) const {
     frags += n;
-    if (deepest > totals(kBlendMaxDepth)) Kokkos::atomic_fetch_max(&totals(kBlendMaxDepth), uint64_t(deepest));
+    raiseTotal(totals(kBlendMaxDepth), deepest);
   }
 
   // weighted: pixels x0 .. x0 + run - 1 of row Y, one walk of the list (in

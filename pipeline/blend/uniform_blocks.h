@@ -349,14 +349,7 @@ struct UniformBlocks {
         longest = sc.count[b] > longest ? sc.count[b] : longest;
       }
       if (sum) Kokkos::atomic_add(&peel.totals(kBlendFrags), sum);
-      // A plain read first (most teams raise nothing), then the hardware's
-      // maximum: Kokkos (desul) maps a 64-bit one to it for unsigned long
-      // long only, and uint64_t's is a compare-and-swap loop, on which the
-      // frame's teams, all running at once, would queue.
-      static_assert(sizeof(unsigned long long) == sizeof(uint64_t), "the totals are 64-bit");
-      if (longest > peel.totals(kBlendLongest))
-        Kokkos::atomic_fetch_max(reinterpret_cast<unsigned long long*>(&peel.totals(kBlendLongest)),
-                                 static_cast<unsigned long long>(longest));
+      raiseTotal(peel.totals(kBlendLongest), longest);
     }
   }
 };

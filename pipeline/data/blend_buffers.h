@@ -24,6 +24,23 @@ enum BlendTotal : int {
 
 // The tile lists' blocks: 8x8 pixels (blending::kItemShift).
 constexpr int32_t kBlendBlockShift = 3;
+// Blocks across `pixels` pixels (a partial block at the end counts): the
+// frame's blocks are blendBlocks(width) x blendBlocks(height), numbered row
+// by row, in every pass that indexes them.
+KOKKOS_INLINE_FUNCTION int32_t blendBlocks(const int32_t pixels) {
+  return (pixels + (1 << kBlendBlockShift) - 1) >> kBlendBlockShift;
+}
+
+// Raises a 64-bit statistic (a slot of BlendBuffers::totals) to at least v.
+// A plain read first (most threads raise nothing), then the hardware's
+// maximum: Kokkos (desul) maps a 64-bit one to it for unsigned long long
+// only, and uint64_t's is a compare-and-swap loop, on which a frame's
+// threads, all running at once, would queue.
+KOKKOS_INLINE_FUNCTION void raiseTotal(uint64_t& total, const uint64_t v) {
+  static_assert(sizeof(unsigned long long) == sizeof(uint64_t), "the totals are 64-bit");
+  if (v > total)
+    Kokkos::atomic_fetch_max(reinterpret_cast<unsigned long long*>(&total), static_cast<unsigned long long>(v));
+}
 // BlendBuffers::blockFrags' value for a block the team walks.
 constexpr uint32_t kUniformWalk = ~0u;
 

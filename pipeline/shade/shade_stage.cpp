@@ -223,7 +223,7 @@ void shadeStage(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, con
   k.opaqueDepth = blend.opaqueDepth;
   k.blendComposite = blend.composite;
   k.blendFrags = blend.frags;
-  k.blendBlocksX = (f.vp.width + (1 << kBlendBlockShift) - 1) >> kBlendBlockShift;
+  k.blendBlocksX = blendBlocks(f.vp.width);
   k.blendEncode = blend.encode ? 1 : 0;
   k.blendRaw = blend.raw ? 1 : 0;
   k.blendStraight = blend.straight ? 1 : 0;
