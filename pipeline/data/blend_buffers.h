@@ -36,7 +36,7 @@ KOKKOS_INLINE_FUNCTION int32_t blendBlocks(const int32_t pixels) {
 // maximum: Kokkos (desul) maps a 64-bit one to it for unsigned long long
 // only, and uint64_t's is a compare-and-swap loop, on which a frame's
 // threads, all running at once, would queue.
-KOKKOS_INLINE_FUNCTION void raiseTotal(uint64_t& total, const uint64_t v) {
+KOKKOS_FORCEINLINE_FUNCTION void raiseTotal(uint64_t& total, const uint64_t v) {
   static_assert(sizeof(unsigned long long) == sizeof(uint64_t), "the totals are 64-bit");
   if (v > total)
     Kokkos::atomic_fetch_max(reinterpret_cast<unsigned long long*>(&total), static_cast<unsigned long long>(v));
