@@ -362,7 +362,7 @@ struct UniformPixels {
   KOKKOS_INLINE_FUNCTION void operator()(const int64_t px) const {
     const Peel<kFam, kFeat>& p = peel;
     const int32_t X = int32_t(px % p.width), Y = int32_t(px / p.width);
-    const int64_t block = int64_t(Y >> kItemShift) * p.blocksX + (X >> kItemShift);
+    const int64_t block = blendBlockOf(X, Y, p.blocksX);
     if (p.blockFrags(block) == kUniformWalk) return;
     const float4 o = p.blockComposite(block);
     const int S = p.fs.sp.count;

@@ -30,6 +30,10 @@ constexpr int32_t kBlendBlockShift = 3;
 KOKKOS_INLINE_FUNCTION int32_t blendBlocks(const int32_t pixels) {
   return (pixels + (1 << kBlendBlockShift) - 1) >> kBlendBlockShift;
 }
+// The block of pixel (X, Y) in a frame blocksX = blendBlocks(width) across.
+KOKKOS_FORCEINLINE_FUNCTION int64_t blendBlockOf(const int32_t X, const int32_t Y, const int32_t blocksX) {
+  return int64_t(Y >> kBlendBlockShift) * blocksX + (X >> kBlendBlockShift);
+}
 
 // Raises a 64-bit statistic (a slot of BlendBuffers::totals) to at least v.
 // A plain read first (most threads raise nothing), then the hardware's

@@ -165,7 +165,7 @@ struct Shade {
   };
   KOKKOS_INLINE_FUNCTION BlendAt blendAt(const int32_t X, const int32_t Y) const {
     if (!blendComposite.data()) return BlendAt{float4{0.0f, 0.0f, 0.0f, 0.0f}, 0};
-    const int64_t b = int64_t(Y >> kBlendBlockShift) * blendBlocksX + (X >> kBlendBlockShift);
+    const int64_t b = blendBlockOf(X, Y, blendBlocksX);
     const uint32_t frags = blendFrags(b);
     const float4 o = blendComposite(b);
     return BlendAt{o, frags != kUniformWalk ? 1 : 0};
