@@ -223,8 +223,7 @@ void blendCollect(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, c
   const size_t n = size_t(f.vp.width) * size_t(f.vp.height) * size_t(f.vp.samples.count);
   // (The frame's totals: cleared by alphaWorkLists' BLEND scan, ClassScan.)
   if (b.lists) {
-    const bool weighted = b.method == Transparency::Weighted;
-    tileLists(f, opaqueKeys, weighted, fragFamily(makeFragShade(s, f, p, lights)), !b.shadeDepth);
+    tileLists(f, opaqueKeys, fragFamily(makeFragShade(s, f, p, lights)), !b.shadeDepth);
     if (b.shadeComposite) uniformBlocksBeforeShading(s, f, p, lights, b, opaqueKeys);
     return;
   }

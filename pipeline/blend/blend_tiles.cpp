@@ -7,9 +7,6 @@
 //     triangle covers no sample of its block is left out (exact test on the
 //     block's corner samples). The order inside a list depends on the thread
 //     schedule; exact's and sorted's results do not (their keys order them);
-//   tiles_sort (weighted): each list that the resolve walks in place put in
-//     raster-index order, the order its sums add their terms in (the team
-//     form ranks the lists that fit its scratch);
 //   opaque_depth: the opaque depth of every sample, which shading clears
 //     (unless the shade stage writes it: BlendPlan::shadeDepth).
 // Where the last frame's lists were short (listStrideFor), each block's list
@@ -17,7 +14,11 @@
 // cursor the block's count), and tiles_longest finds the longest (the glTF
 // shading's team form: its classification, uniform_blocks.h); a list
 // that outgrows its room makes the frame be drawn again, counted.
-// After shading, resolve: per sample its block's list walked and its
+// After shading, tiles_sort (weighted): each list that the resolve walks in
+// place put in raster-index order, the order its sums add their terms in
+// (the team form ranks the lists that fit its scratch; the longest list is
+// known by then, so a frame with none longer sorts nothing); then resolve:
+// per sample its block's list walked and its
 // fragments composited front to back, peeled K at a time, or summed
 // (weighted) (peel.h); on a GPU a team a block (peel_team.h). This file
 // launches the frame's instance.
@@ -217,9 +218,17 @@ struct TileSort {
   uint64_t tileCapacity;
   uint32_t longer;  // the lists sorted: those longer (the team form ranks the others itself)
   uint32_t stride;  // listStrideFor
+  // Whether no list this frame is longer than `longer` (or the lists are
+  // not read: the frame is drawn again). Every layout has found the longest
+  // list before the resolve sorts (TileScan, tiles_longest or the uniform
+  // blocks' classification), so a GPU's warps skip the frame's 32,400
+  // blocks' counts when all of them are ranked in scratch.
+  KOKKOS_INLINE_FUNCTION bool none() const {
+    return totals(kBlendListed) > tileCapacity || totals(kBlendLongest) <= longer;
+  }
   KOKKOS_INLINE_FUNCTION uint32_t* list(const uint32_t block, uint32_t& n) const {
     n = tileCount(block);
-    if (totals(kBlendListed) > tileCapacity || n <= longer) {  // not read (the frame is drawn again), or ranked
+    if (none() || n <= longer) {  // not read, or ranked
       n = 0;
       return nullptr;
     }
@@ -238,6 +247,7 @@ struct TileSortTeam : TileSort {
   KOKKOS_INLINE_FUNCTION void operator()(const TeamMember& m) const {
     uint32_t* s =
         inTeamScratch(static_cast<uint32_t*>(m.team_scratch(0).get_shmem(kBlendSortScratchEntries * sizeof(uint32_t))));
+    if (none()) return;
     for (uint32_t block = uint32_t(m.league_rank()); block < blocks; block += uint32_t(m.league_size())) {
       uint32_t n;
       uint32_t* v = list(block, n);  // the same n for the whole team
@@ -283,6 +293,36 @@ void longestList(const DView<uint32_t>& tileCount, const DView<uint64_t>& totals
 }
 
 // peelResolve's launch of the frame's instance (withFragPath).
+// tiles_sort, launched by the resolve just before its walk (weighted):
+// by then the longest list is known however the lists were laid out, and
+// nothing before the walk reads their order (the uniform blocks' classifi-
+// cation ranks its entries itself). The team form resolves a list that fits
+// its scratch in raster-index order whatever the list's: only longer ones,
+// which it walks in place, are sorted.
+// Whether the last frame had lists longer than the team form ranks itself.
+bool sortsLongLists(const FrameBuffers& f) { return f.blend.longestList > kTeamEntriesAlways; }
+
+void sortTileLists(const FrameBuffers& f, const FragFamily fam) {
+  const BlendBuffers& bb = f.blend;
+  const uint32_t blocks = uint32_t(blendBlocks(f.vp.width)) * uint32_t(blendBlocks(f.vp.height));
+  const uint32_t longer = fam != kFragGeneral && teamForm() ? kTeamEntriesAlways : 0;
+  const TileSort sort{bb.tileCount, bb.tileEnd, bb.tileTris, bb.totals, bb.tileCapacity, longer, bb.listStride};
+  if constexpr (kOnDevice) {
+    // The persistent threads' warps where the last frame had lists to sort,
+    // else a warp a multiprocessor: 8,448 warps that stopped at the longest
+    // list's count still cost the H200's frame 7 us. Either count sorts every
+    // list (a warp strides through the blocks); blendLaunchKey keys it.
+    const uint32_t warps = sortsLongLists(f) ? persistentThreads() / 32 : persistentThreads() / kThreadsPerMultiprocessor;
+    Kokkos::parallel_for("rast::blend::tiles_sort",
+                         TeamPolicy(int(std::min<uint32_t>(blocks, std::max<uint32_t>(1, warps))), 32)
+                             .set_scratch_size(0, Kokkos::PerTeam(kBlendSortScratchEntries * sizeof(uint32_t))),
+                         TileSortTeam{sort, blocks});
+  } else {
+    Kokkos::parallel_for("rast::blend::tiles_sort", Kokkos::RangePolicy<Exec, Kokkos::IndexType<uint32_t>>(0, blocks),
+                         sort);
+  }
+}
+
 struct PeelLaunch {
   const FragShade& fs;
   const FrameBuffers& f;
@@ -329,6 +369,7 @@ struct PeelLaunch {
     // (Classifying alone is asked only of the team form's glTF instances: blendShadeComposites.)
     if (keys.data() && !(uniformBlocksFor<kFam, kFeat>() && teamForm())) return;
     if constexpr (kFam == kFragGeneral) {
+      if (weighted) sortTileLists(f, FragFamily(kFam));
       Kokkos::parallel_reduce("rast::blend::resolve", heavyweight(Range(0, items)), peel, result);
     } else if (teamForm()) {
       using Team = PeelTeam<kFam, kFeat>;
@@ -352,6 +393,7 @@ struct PeelLaunch {
           Kokkos::parallel_for("rast::blend::uniform_pixels",
                                lightweight(Range(0, int64_t(f.vp.width) * f.vp.height)), UniformPixels<kFam, kFeat>{peel});
       }
+      if (weighted) sortTileLists(f, FragFamily(kFam));  // after the classification, which found the longest list
       const uint32_t entries = Team::entriesFor(bb.longestList);
       // The larger scratch under launch bounds that let its teams fit a
       // multiprocessor (Kokkos refuses a scratch that does not). Host
@@ -366,6 +408,7 @@ struct PeelLaunch {
           Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kBlendResolveLaunchBounds[0], kBlendResolveLaunchBounds[1]>>;
       // A CPU thread a few blocks: each in order where its triangles keep one
       // (peel_block.h), else its rows peeled.
+      if (weighted) sortTileLists(f, FragFamily(kFam));
       if constexpr (kPeelRun > 1) {
         using Blocks = PeelBlocks<kFam, kFeat>;
         Kokkos::parallel_reduce("rast::blend::resolve", lightweight(Policy(0, Blocks::itemsFor(items))),
@@ -381,8 +424,7 @@ struct PeelLaunch {
 
 bool teamForm() { return kOnDevice || testHooks().teamResolve; }
 
-void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool rasterOrder, const FragFamily fam,
-               const bool copyDepth) {
+void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const FragFamily fam, const bool copyDepth) {
   BlendBuffers& bb = f.blend;
   const uint32_t blocksX = uint32_t(blendBlocks(f.vp.width));
   const uint32_t blocks = blocksX * uint32_t(blendBlocks(f.vp.height));
@@ -418,19 +460,6 @@ void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, const bool ra
     Kokkos::parallel_scan("rast::blend::tiles_layout", Policy(0, blocks), TileScan{bb.tileCount, bb.tileEnd, bb.totals, blocks});
     c.fill = 1;
     Kokkos::parallel_for("rast::blend::tiles_fill", Policy(0, threads), c);
-  }
-  if (rasterOrder) {
-    // The team form resolves a list that fits its scratch in raster-index
-    // order whatever the list's: only longer ones, which it walks in place, are sorted.
-    const uint32_t longer = fam != kFragGeneral && teamForm() ? kTeamEntriesAlways : 0;
-    const TileSort sort{bb.tileCount, bb.tileEnd, bb.tileTris, bb.totals, bb.tileCapacity, longer, bb.listStride};
-    if constexpr (kOnDevice)
-      Kokkos::parallel_for("rast::blend::tiles_sort",
-                           TeamPolicy(int(std::min<uint32_t>(blocks, std::max<uint32_t>(1, threads / 32))), 32)
-                               .set_scratch_size(0, Kokkos::PerTeam(kBlendSortScratchEntries * sizeof(uint32_t))),
-                           TileSortTeam{sort, blocks});
-    else
-      Kokkos::parallel_for("rast::blend::tiles_sort", Policy(0, blocks), sort);
   }
   if (!copyDepth) return;  // the shade stage writes it (BlendPlan::shadeDepth)
   auto vis = opaqueKeys;
@@ -474,8 +503,8 @@ void uniformBlocksBeforeShading(const DeviceScene& s, FrameBuffers& f, const Sha
 uint64_t blendLaunchKey(const FrameBuffers& f) {
   using namespace blending;
   const uint64_t l = f.blend.longestList;
-  return (uint64_t(listStrideFor(f)) << 48) ^ (uint64_t(PeelTeam<kFragLit, 0>::entriesFor(l)) << 32 |
-                                               PeelTeam<kFragPbr, 0>::entriesFor(l));
+  return (uint64_t(sortsLongLists(f)) << 63) ^ (uint64_t(listStrideFor(f)) << 48) ^
+         (uint64_t(PeelTeam<kFragLit, 0>::entriesFor(l)) << 32 | PeelTeam<kFragPbr, 0>::entriesFor(l));
 }
 
 uint64_t stridedListRoom(const FrameBuffers& f) {

@@ -308,9 +308,10 @@ FragShade makeFragShade(const DeviceScene& s, FrameBuffers& f, const ShadeParams
 
 // The methods that walk tile lists (blend_tiles.cpp: exact, sorted,
 // weighted): the lists, built before shading (they read the opaque depth;
-// weighted's in raster-index order; with the uniform blocks' buffers under
-// the team form of fragment family `fam`), and the resolve after it.
-void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, bool rasterOrder, FragFamily fam, bool copyDepth);
+// with the uniform blocks' buffers under the team form of fragment family
+// `fam`), and the resolve after it (which first puts weighted's in
+// raster-index order).
+void tileLists(FrameBuffers& f, const DView<uint64_t>& opaqueKeys, FragFamily fam, bool copyDepth);
 void peelResolve(const DeviceScene& s, FrameBuffers& f, const ShadeParams& p, const DView<LightGPU>& lights,
                  const BlendPlan& b);
 // Whether the specialised fragment families resolve a team a block (GPUs;
