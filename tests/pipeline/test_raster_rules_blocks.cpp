@@ -199,14 +199,7 @@ struct WindowTriangles {
   void add(double ax, double ay, double bx, double by, double cx, double cy, double z) { add(ax, ay, z, bx, by, z, cx, cy, z); }
   Scene scene() const { return trianglesScene(p, idx); }
   // The frame's settings: its size, with ids and depth.
-  RenderSettings settings() const {
-    RenderSettings rs;
-    rs.width = w;
-    rs.height = h;
-    rs.wantPrimId = true;
-    rs.wantDepth = true;
-    return rs;
-  }
+  RenderSettings settings() const { return withIdsAndDepth(w, h); }
 };
 
 // The visbuffer raster finds each work item's triangle between search hints

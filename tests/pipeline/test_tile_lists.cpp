@@ -18,15 +18,6 @@ using namespace rast::test;
 
 namespace {
 
-RenderSettings small(int w, int h) {
-  RenderSettings rs;
-  rs.width = w;
-  rs.height = h;
-  rs.wantPrimId = true;
-  rs.wantDepth = true;
-  return rs;
-}
-
 // The linear film (bottom row first) of one frame.
 std::vector<rast::float4> film(const Scene& s, const RenderSettings& rs, FrameStats* st = nullptr) {
   Renderer r(s);
@@ -90,7 +81,7 @@ TEST_CASE("BLEND: weighted's lists that the team walks in place are sorted befor
     for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::Pbr})
       for (int msaa : {1, 4}) {
         INFO(name << " " << toString(mode) << " msaa " << msaa);
-        RenderSettings rs = small(93, 53);
+        RenderSettings rs = withIdsAndDepth(93, 53);
         rs.shading = mode;
         rs.msaa = msaa;
         rs.transparency = Transparency::Weighted;
@@ -130,7 +121,7 @@ TEST_CASE("BLEND: the strided tile lists give the counted lists' bits", "[transp
           for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
             INFO(name << " team " << team << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
             TeamForm g(team);
-            RenderSettings rs = small(93, 53);
+            RenderSettings rs = withIdsAndDepth(93, 53);
             rs.shading = mode;
             rs.msaa = msaa;
             rs.transparency = t;
@@ -161,7 +152,7 @@ TEST_CASE("BLEND: the strided tile lists give the counted lists' bits", "[transp
     for (bool team : {false, true}) {
       INFO(toString(mode) << " team " << team);
       TeamForm g(team);
-      RenderSettings rs = small(93, 53);
+      RenderSettings rs = withIdsAndDepth(93, 53);
       rs.transparency = Transparency::Exact;
       rs.shading = mode;
       const std::vector<rast::float4> want = film(s, rs);

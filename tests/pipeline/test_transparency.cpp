@@ -24,14 +24,7 @@ using namespace rast::test;
 
 namespace {
 
-RenderSettings small(int w = 96, int h = 54) {
-  RenderSettings rs;
-  rs.width = w;
-  rs.height = h;
-  rs.wantPrimId = true;
-  rs.wantDepth = true;
-  return rs;
-}
+RenderSettings small(int w = 96, int h = 54) { return withIdsAndDepth(w, h); }
 
 // The linear film (bottom row first) of one frame.
 std::vector<rast::float4> film(const Scene& s, RenderSettings rs, FrameStats* st = nullptr, uint64_t budget = 0) {

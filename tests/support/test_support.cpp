@@ -11,6 +11,15 @@
 
 namespace rast::test {
 
+RenderSettings withIdsAndDepth(const int width, const int height) {
+  RenderSettings rs;
+  rs.width = width;
+  rs.height = height;
+  rs.wantPrimId = true;
+  rs.wantDepth = true;
+  return rs;
+}
+
 Frame renderFrame(const Scene& s, const Camera& cam, RenderSettings rs) {
   rs.wantPrimId = true;
   rs.wantDepth = true;

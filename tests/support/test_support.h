@@ -31,6 +31,8 @@ struct Frame {
 
 // Renders with ids and depth requested.
 Frame renderFrame(const Scene& s, const Camera& cam, RenderSettings rs);
+// The settings of a width x height frame with ids and depth requested.
+RenderSettings withIdsAndDepth(int width, int height);
 
 // A scene of raw triangles (object space = world space), one draw, one material.
 Scene trianglesScene(const std::vector<float3>& positions, const std::vector<uint32_t>& indices,
