@@ -292,16 +292,15 @@ void longestList(const DView<uint32_t>& tileCount, const DView<uint64_t>& totals
                        TileLongest{tileCount, totals, blocks});
 }
 
-// peelResolve's launch of the frame's instance (withFragPath).
+// Whether the last frame had lists longer than the team form ranks itself.
+bool sortsLongLists(const FrameBuffers& f) { return f.blend.longestList > kTeamEntriesAlways; }
+
 // tiles_sort, launched by the resolve just before its walk (weighted):
 // by then the longest list is known however the lists were laid out, and
 // nothing before the walk reads their order (the uniform blocks' classifi-
 // cation ranks its entries itself). The team form resolves a list that fits
 // its scratch in raster-index order whatever the list's: only longer ones,
 // which it walks in place, are sorted.
-// Whether the last frame had lists longer than the team form ranks itself.
-bool sortsLongLists(const FrameBuffers& f) { return f.blend.longestList > kTeamEntriesAlways; }
-
 void sortTileLists(const FrameBuffers& f, const FragFamily fam) {
   const BlendBuffers& bb = f.blend;
   const uint32_t blocks = uint32_t(blendBlocks(f.vp.width)) * uint32_t(blendBlocks(f.vp.height));
@@ -323,6 +322,7 @@ void sortTileLists(const FrameBuffers& f, const FragFamily fam) {
   }
 }
 
+// peelResolve's launch of the frame's instance (withFragPath).
 struct PeelLaunch {
   const FragShade& fs;
   const FrameBuffers& f;

@@ -5,12 +5,11 @@
 // raster-index order when it walks them.
 #include <catch2/catch.hpp>
 
-#include <cstring>
-
 #include "pipeline/blend/peel_team.h"
 #include "pipeline/data/test_hooks.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
+#include "tests/support/blend_support.h"
 #include "tests/support/test_support.h"
 
 using namespace rast;
@@ -18,24 +17,7 @@ using namespace rast::test;
 
 namespace {
 
-// The linear film (bottom row first) of one frame.
-std::vector<rast::float4> film(const Scene& s, const RenderSettings& rs, FrameStats* st = nullptr) {
-  Renderer r(s);
-  const FrameStats f = r.render(defaultCamera(s), rs);
-  if (st) *st = f;
-  return r.filmBottomUp();
-}
-
-bool sameBits(const std::vector<rast::float4>& a, const std::vector<rast::float4>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(rast::float4)) == 0;
-}
-
-// The resolve's team form on a CPU (TestHooks::teamResolve), and the strided
-// layout's room (TestHooks::listStride), for a scope.
-struct TeamForm {
-  explicit TeamForm(bool on = true) { testHooks().teamResolve = on; }
-  ~TeamForm() { testHooks().teamResolve = false; }
-};
+// The strided layout's room (TestHooks::listStride) for a scope.
 struct Stride {
   explicit Stride(uint32_t s) { testHooks().listStride = s; }
   ~Stride() { testHooks().listStride = 0; }

@@ -9,7 +9,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <initializer_list>
 
 #include "pipeline/blend/blend.h"
@@ -17,6 +16,7 @@
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
 #include "pipeline/data/test_hooks.h"
+#include "tests/support/blend_support.h"
 #include "tests/support/test_support.h"
 
 using namespace rast;
@@ -26,14 +26,6 @@ namespace {
 
 RenderSettings small(int w = 96, int h = 54) { return withIdsAndDepth(w, h); }
 
-// The linear film (bottom row first) of one frame.
-std::vector<rast::float4> film(const Scene& s, RenderSettings rs, FrameStats* st = nullptr, uint64_t budget = 0) {
-  Renderer r(s, budget);
-  const FrameStats f = r.render(defaultCamera(s), rs);
-  if (st) *st = f;
-  return r.filmBottomUp();
-}
-
 double maxDiff(const std::vector<rast::float4>& a, const std::vector<rast::float4>& b) {
   double m = 0.0;
   for (size_t i = 0; i < a.size(); ++i)
@@ -41,16 +33,6 @@ double maxDiff(const std::vector<rast::float4>& a, const std::vector<rast::float
                   std::fabs(double(a[i].z) - b[i].z)});
   return m;
 }
-
-bool sameBits(const std::vector<rast::float4>& a, const std::vector<rast::float4>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(rast::float4)) == 0;
-}
-
-// The resolve's team form on a CPU (TestHooks::teamResolve) for a scope.
-struct TeamForm {
-  explicit TeamForm(bool on = true) { testHooks().teamResolve = on; }
-  ~TeamForm() { testHooks().teamResolve = false; }
-};
 
 const Transparency kMethods[] = {Transparency::Exact, Transparency::Sorted, Transparency::KBuffer, Transparency::Weighted};
 
