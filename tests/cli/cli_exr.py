@@ -7,6 +7,10 @@
    EXR's top-first order), with A in [0, 1], ZIP compressed;
  - an AOV in its own .exr holds that channel alone, and .npy/.pfm outputs
    beside it are unchanged;
+ - BLEND layers over a transparent background keep their alpha: A is
+   1 - (1 - a)^n for n layers of alpha a with nothing opaque behind, and the
+   PNG's alpha, the colour premultiplied by it (the PNG's straight colour
+   times A), under every transparency method (#39);
  - a failed run leaves an existing .exr as it was.
 Read back with tests/support/exr_read.py (OpenEXR's Python bindings are not in
 Debian). Skips (77) when the build has no OpenEXR."""
@@ -78,6 +82,38 @@ r = rast("render", *scene, "-o", p("c.png"), "--aov", f"depth={z},primid={p('i.n
 hz, cz = read_exr(z)
 check(r.returncode == 0 and hz["channels"] == ["Z"] and cz["Z"] == ch["Z"], "an AOV alone in its .exr: channel Z")
 check(os.path.getsize(p("i.npy")) > 4 * 48 * 32, "the .npy beside it is written")
+
+
+
+def srgb8(v):
+    """Linear [0, 1] to an sRGB byte (the PNG's encoding, to within one step)."""
+    v = min(max(v, 0.0), 1.0)
+    return 255.0 * (12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055)
+
+
+# Three layers of alpha 0.5, unlit, no backdrop, each over the whole frame:
+# 1 - 0.5^3 of every pixel is covered.
+layers = ["builtin:layers?n=3&alpha=0.5&back=0", "--size", "64x48", "--background", "transparent"]
+for method in ["exact", "weighted", "sorted", "kbuffer"]:
+    e, png = p(f"blend_{method}.exr"), p(f"blend_{method}.png")
+    r = rast("render", *layers, "--transparency", method, "-o", e)
+    r2 = rast("render", *layers, "--transparency", method, "-o", png)
+    check(r.returncode == 0 and r2.returncode == 0, f"{method}: BLEND layers into .exr and .png")
+    if r.returncode or r2.returncode:
+        continue
+    he, ce = read_exr(e)
+    pw, ph, px = rastimg.read_png_rgba(png)
+    alphas = [a for row in ce["A"] for a in row]
+    check(min(alphas) == max(alphas) == 0.875, f"{method}: A is 1 - 0.5^3 at every pixel: {min(alphas)}..{max(alphas)}")
+    worst_a = worst = 0.0
+    for y in range(ph):
+        for x in range(pw):
+            a, q = ce["A"][y][x], (y * pw + x) * 4
+            worst_a = max(worst_a, abs(a * 255.0 - px[q + 3]))
+            for k, n in enumerate("RGB"):
+                worst = max(worst, abs(srgb8(ce[n][y][x] / a) - px[q + k]) if a > 0.0 else 0.0)
+    check(worst_a <= 0.5, f"{method}: the PNG's alpha is A (worst {worst_a:.2f} of a byte)")
+    check(worst <= 1.0, f"{method}: R, G, B are the PNG's straight colour times A (worst {worst:.2f} of a byte)")
 
 before = open(f, "rb").read()
 r = rast("render", *scene, "-o", f, "--aov", f"depth={f}", "--shading", "glossy")
