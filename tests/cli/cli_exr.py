@@ -84,13 +84,6 @@ check(r.returncode == 0 and hz["channels"] == ["Z"] and cz["Z"] == ch["Z"], "an 
 check(os.path.getsize(p("i.npy")) > 4 * 48 * 32, "the .npy beside it is written")
 
 
-
-def srgb8(v):
-    """Linear [0, 1] to an sRGB byte (the PNG's encoding, to within one step)."""
-    v = min(max(v, 0.0), 1.0)
-    return 255.0 * (12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055)
-
-
 # Three layers of alpha 0.5, unlit, no backdrop, each over the whole frame:
 # 1 - 0.5^3 of every pixel is covered.
 layers = ["builtin:layers?n=3&alpha=0.5&back=0", "--size", "64x48", "--background", "transparent"]
@@ -101,7 +94,7 @@ for method in ["exact", "weighted", "sorted", "kbuffer"]:
     check(r.returncode == 0 and r2.returncode == 0, f"{method}: BLEND layers into .exr and .png")
     if r.returncode or r2.returncode:
         continue
-    he, ce = read_exr(e)
+    _, ce = read_exr(e)
     pw, ph, px = rastimg.read_png_rgba(png)
     alphas = [a for row in ce["A"] for a in row]
     check(min(alphas) == max(alphas) == 0.875, f"{method}: A is 1 - 0.5^3 at every pixel: {min(alphas)}..{max(alphas)}")
@@ -111,7 +104,7 @@ for method in ["exact", "weighted", "sorted", "kbuffer"]:
             a, q = ce["A"][y][x], (y * pw + x) * 4
             worst_a = max(worst_a, abs(a * 255.0 - px[q + 3]))
             for k, n in enumerate("RGB"):
-                worst = max(worst, abs(srgb8(ce[n][y][x] / a) - px[q + k]) if a > 0.0 else 0.0)
+                worst = max(worst, abs(rastimg.srgb(ce[n][y][x] / a) - px[q + k]) if a > 0.0 else 0.0)
     check(worst_a <= 0.5, f"{method}: the PNG's alpha is A (worst {worst_a:.2f} of a byte)")
     check(worst <= 1.0, f"{method}: R, G, B are the PNG's straight colour times A (worst {worst:.2f} of a byte)")
 

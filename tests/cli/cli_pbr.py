@@ -177,7 +177,7 @@ def solid_png(rgba):
 
 
 def srgb(v):
-    return round(255 * (12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055))
+    return round(rastimg.srgb(v))
 
 
 vdoc = {

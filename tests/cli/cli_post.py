@@ -33,9 +33,7 @@ def wd(n):
 
 
 def srgb_byte(v):
-    v = min(max(v, 0.0), 1.0)
-    s = v * 12.92 if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055
-    return int(s * 255 + 0.5)
+    return int(rastimg.srgb(v) + 0.5)
 
 
 size = ["--size", "96x64"]

@@ -1,6 +1,6 @@
 """Image helpers for the python tests (standard library only): a minimal PNG
-reader (8-bit grey/palette/RGB/RGBA, non-interlaced) and
-readers for glref-ids and PFM files."""
+reader (8-bit grey/palette/RGB/RGBA, non-interlaced),
+readers for glref-ids and PFM files, and the sRGB encoding."""
 import struct
 import zlib
 
@@ -105,3 +105,10 @@ def read_pfm(path):
         ch = 3 if magic == b"PF" else 1
         fmt = "<" if scale < 0 else ">"
         return w, h, ch, struct.unpack(f"{fmt}{w * h * ch}f", f.read(4 * w * h * ch))
+
+
+def srgb(v):
+    """Linear v, clamped to [0, 1], sRGB-encoded and times 255, not rounded:
+    the byte an 8-bit PNG holds for it, to within the encoder's rounding."""
+    v = min(max(v, 0.0), 1.0)
+    return 255.0 * (12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055)
