@@ -7,9 +7,11 @@ against a supersampled exact reference (`--reference --reference-grid G`),
 both read from `-o F.pfm` (the linear film). The opaque frame (the same scene
 with n=0: the opaque backdrop alone) is timed too, for the cost ratio. One CSV row per (scene, method):
 
-    scene, method, ms, opaque_ms, rmse_vs_exact, max_vs_exact, rmse_vs_reference, size, backend
+    scene, method, ms, opaque_ms, rmse_vs_exact, max_vs_exact, rmse_vs_reference, size, backend, shading
 
-Python standard library only. Chart: scripts/plot/plot_transparency.py.
+`--shading S` draws every frame with that shading (the built-in scenes'
+default is Lambert's headlight, which lights their KHR_materials_unlit layers;
+`--shading pbr` draws them as their materials say). Python standard library only. Chart: scripts/plot/plot_transparency.py.
 
   python3 scripts/measure/bench_transparency.py --rast build/openmp/rast --out docs/data/transparency_openmp.csv
 """
@@ -73,12 +75,14 @@ def main():
     ap.add_argument("--frames", default="20")
     ap.add_argument("--reference-grid", default="4", help="samples per pixel side of the exact reference (16: the issue's)")
     ap.add_argument("--scenes", default="", help="comma-separated indices into the scene list (default: all)")
+    ap.add_argument("--shading", default="", help="rast's --shading for every frame (default: the scenes' own, Lambert)")
     a = ap.parse_args()
     tmp = tempfile.mkdtemp(prefix="rast_transparency_")
     scenes = [SCENES[int(i)] for i in a.scenes.split(",")] if a.scenes else SCENES
     rows = []
     for label, scene in scenes:
-        common = [scene, "--size", a.size]
+        shading = ["--shading", a.shading] if a.shading else []
+        common = [scene, "--size", a.size] + shading
         ref = os.path.join(tmp, "ref.pfm")
         run([a.rast, "render"] + common + ["--transparency", "exact", "--reference", "--reference-grid",
                                            a.reference_grid, "-o", ref])
@@ -86,7 +90,7 @@ def main():
         exact = None
         opaque_scene = scene.split("?")[0] + "?n=0&" + "&".join(
             kv for kv in scene.split("?")[1].split("&") if not kv.startswith("n="))
-        o = bench(a.rast, [opaque_scene, "--size", a.size, "--frames", a.frames], tmp)
+        o = bench(a.rast, [opaque_scene, "--size", a.size, "--frames", a.frames] + shading, tmp)
         for m in METHODS:
             img = os.path.join(tmp, m + ".pfm")
             run([a.rast, "render"] + common + ["--transparency", m, "-o", img])
@@ -98,7 +102,8 @@ def main():
             ref_rmse, _ = errors(film, reference)
             rows.append({"scene": label, "method": m, "ms": b.get("total_median_ms"),
                          "opaque_ms": o.get("total_median_ms"), "rmse_vs_exact": ex_rmse, "max_vs_exact": ex_max,
-                         "rmse_vs_reference": ref_rmse, "size": a.size, "backend": b.get("backend")})
+                         "rmse_vs_reference": ref_rmse, "size": a.size, "backend": b.get("backend"),
+                         "shading": a.shading or "lambert"})
             print(label, m, rows[-1]["ms"], f"{ex_rmse:.5f}", f"{ref_rmse:.5f}", flush=True)
     with open(a.out, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
