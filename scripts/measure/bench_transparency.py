@@ -80,8 +80,8 @@ def main():
     tmp = tempfile.mkdtemp(prefix="rast_transparency_")
     scenes = [SCENES[int(i)] for i in a.scenes.split(",")] if a.scenes else SCENES
     rows = []
+    shading = ["--shading", a.shading] if a.shading else []
     for label, scene in scenes:
-        shading = ["--shading", a.shading] if a.shading else []
         common = [scene, "--size", a.size] + shading
         ref = os.path.join(tmp, "ref.pfm")
         run([a.rast, "render"] + common + ["--transparency", "exact", "--reference", "--reference-grid",
