@@ -128,10 +128,18 @@ constexpr unsigned kBlendResolveLaunchBounds[2] = {256, 2};
 // 0.367 (weighted and sorted 2-3% faster, but 18 glTF-shaded triangles fill
 // it: shorter lists would take the larger scratch). Before, 44 KiB and
 // {64, 5} for every frame made 64 layers 3x faster and 8 layers 1.4x slower.
+// The larger scratch holds a block's list of 64 triangles (64 full-screen
+// layers off their diagonals): 70 lit entries (640 bytes a GPU, with the
+// list's two indices) in 44 KiB at five teams a multiprocessor; the glTF
+// shading's (720 bytes) take 47 KiB, 66 of them, at four (five do not fit
+// a Hopper multiprocessor's 228 KiB; Kokkos adds 528 bytes a team, and 48
+// KiB is a CUDA block's most without opting in).
 constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 12};
 constexpr size_t kBlendTeamScratchBytes = 16 * 1024;
 constexpr unsigned kBlendTeamDeepLaunchBounds[2] = {64, 5};
 constexpr size_t kBlendTeamScratchMaxBytes = 44 * 1024;
+constexpr unsigned kBlendTeamDeepPbrLaunchBounds[2] = {64, 4};
+constexpr size_t kBlendTeamScratchMaxPbrBytes = 47 * 1024;
 // Whether every tile lists' resolve encodes the colour as it writes the film,
 // where no post pass follows (BlendPlan::encode), instead of the post chain's
 // own pass. On 2 CPU cores, 8 mixed layers at 1920x1080: the 6 ms pass

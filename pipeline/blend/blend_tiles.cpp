@@ -395,14 +395,14 @@ struct PeelLaunch {
       }
       if (weighted) sortTileLists(f, FragFamily(kFam));  // after the classification, which found the longest list
       const uint32_t entries = Team::entriesFor(bb.longestList);
-      // The larger scratch under launch bounds that let its teams fit a
-      // multiprocessor (Kokkos refuses a scratch that does not). Host
+      // The family's larger scratch under launch bounds that let its teams
+      // fit a multiprocessor (Kokkos refuses a scratch that does not). Host
       // backends ignore launch bounds: one instance of the team kernel.
       constexpr bool kWalked = uniformBlocksFor<kFam, kFeat>();
       if (!kOnDevice || entries <= Team::entriesIn(kBlendTeamScratchBytes))
         launchTeams<kBlendTeamLaunchBounds[0], kBlendTeamLaunchBounds[1]>(Team{peel, blocks, entries}, kWalked);
       else if constexpr (kOnDevice)
-        launchTeams<kBlendTeamDeepLaunchBounds[0], kBlendTeamDeepLaunchBounds[1]>(Team{peel, blocks, entries}, kWalked);
+        launchTeams<Team::kDeepThreads, Team::kDeepTeams>(Team{peel, blocks, entries}, kWalked);
     } else {
       using Policy =
           Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kBlendResolveLaunchBounds[0], kBlendResolveLaunchBounds[1]>>;

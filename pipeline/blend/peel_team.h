@@ -39,10 +39,9 @@ struct PeelTeam {
     AlphaTri a;
     TriFrag tf;
     FragPbrTri<kFam> pt;
-    DepthTerms dz;    // no default: entries live in scratch, never constructed
-    uint64_t triKey;  // sorted: its draw's key with the low half cleared
-    uint64_t order;   // its key in the block's order (sorted's key; exact: the depth range's start)
-    float lo, hi;     // exact: its depth range over the block
+    DepthTerms dz;   // no default: entries live in scratch, never constructed
+    uint64_t order;  // its key in the block's order (sorted's key, kept; exact: the depth range's start)
+    float lo, hi;    // exact: its depth range over the block
   };
   static constexpr int32_t kPixels = 1 << (2 * kItemShift);
   // Entries that fit n bytes of scratch; the scratch for n entries.
@@ -50,9 +49,19 @@ struct PeelTeam {
   static constexpr size_t scratchFor(uint32_t n) { return n * (sizeof(Entry) + 2 * sizeof(uint32_t)) + 64; }
   static_assert(entriesIn(kBlendTeamScratchBytes) >= 16,
                 "a block's list under 8 full-screen layers (16 triangles on its diagonal) fits");
+  // The larger scratch, for frames with longer lists, and the launch bounds
+  // that let its teams fit a multiprocessor: the glTF shading's entries are
+  // the larger (backends/tuning.h).
+  static constexpr size_t kDeepBytes = kFam == kFragPbr ? kBlendTeamScratchMaxPbrBytes : kBlendTeamScratchMaxBytes;
+  static constexpr unsigned kDeepThreads =
+      kFam == kFragPbr ? kBlendTeamDeepPbrLaunchBounds[0] : kBlendTeamDeepLaunchBounds[0];
+  static constexpr unsigned kDeepTeams =
+      kFam == kFragPbr ? kBlendTeamDeepPbrLaunchBounds[1] : kBlendTeamDeepLaunchBounds[1];
+  static_assert(!kOnDevice || entriesIn(kDeepBytes) >= 64,
+                "a block's list under 64 full-screen layers (off their diagonals) fits the larger scratch");
   // The entries of a frame whose last frame's longest list was `longest`.
   static uint32_t entriesFor(uint64_t longest) {
-    const uint32_t lo = entriesIn(kBlendTeamScratchBytes), hi = entriesIn(kBlendTeamScratchMaxBytes);
+    const uint32_t lo = entriesIn(kBlendTeamScratchBytes), hi = entriesIn(kDeepBytes);
     return longest <= lo ? lo : (longest < hi ? uint32_t(longest) : hi);
   }
 
@@ -168,7 +177,6 @@ struct PeelTeam {
         en.tf.index = ~0u;
         P.fs.template use<kFam>(i, en.tf, en.pt);
         en.dz = DepthTerms(P.fs.sc.tris(i));
-        en.triKey = P.sorted ? P.sortedKeyOf(i) & ~uint64_t(0xffffffffu) : 0;
         // exact: the triangle's whole depth range (depthBounds: widened past
         // the depth's rounding), the list's order for every block it serves
         // when no two ranges overlap.
@@ -176,7 +184,8 @@ struct PeelTeam {
           const DepthBounds z = depthBounds(P.fs.sc.tris(i));
           en.lo = z.lo;
           en.hi = z.hi;
-          en.order = P.sorted ? en.triKey | uint64_t(0xffffffffu - r) : uint64_t(orderBits(en.lo)) << 32 | r;
+          en.order = P.sorted ? (P.sortedKeyOf(i) & ~uint64_t(0xffffffffu)) | uint64_t(0xffffffffu - r)
+                              : uint64_t(orderBits(en.lo)) << 32 | r;
         }
       }
       m.team_barrier();  // an entry's range below is another thread's set-up
@@ -310,7 +319,7 @@ struct PeelTeam {
           if (!en.tf.e.inside(v[0], v[1], v[2])) continue;
           const float z = en.dz.at(v[0], v[2]);
           if (!(floatBits(z) < opq)) continue;  // LESS against the opaque depth
-          const uint64_t key = sorted ? (en.triKey | uint64_t(0xffffffffu - j)) : visKey(z, j);
+          const uint64_t key = sorted ? en.order : visKey(z, j);  // sorted's: its draw's, then its place j
           if (key <= after) continue;  // composited by an earlier pass
           if (key < best[kPeelK - 1]) Peel<kFam, kFeat>::insert(best, key, cnt);
           ++cnt;

@@ -29,14 +29,16 @@ KOKKOS_INLINE_FUNCTION float3 iblDiffuse(const EnvironmentGPU& e, float3 n) {
 // What the image-based light of a fragment needs of its perceptual
 // roughness alone: the specular levels at lod = roughness * (mipCount - 1),
 // and the split-sum table's rows (their first texels' indices) and weight.
-// Found once per triangle where the roughness is the material's
-// (PbrTri::ibl), else per fragment.
+// Found once per triangle on host backends where the roughness is the
+// material's (PbrTri::ibl), else per fragment.
 struct IblRough {
   float roughness = 1.0f;
   CubeLod lod;
   uint32_t row0 = 0, row1 = 0;
   float b = 0.0f;
 };
+// In its place where none is kept (a GPU's PbrTri).
+struct NoIblRough {};
 KOKKOS_INLINE_FUNCTION IblRough iblRough(const EnvironmentGPU& e, float roughness) {
   IblRough r;
   r.roughness = roughness;
@@ -48,6 +50,19 @@ KOKKOS_INLINE_FUNCTION IblRough iblRough(const EnvironmentGPU& e, float roughnes
   r.row0 = uint32_t(imax(iw, 0)) * n;
   r.row1 = uint32_t(imin(iw + 1, n - 1)) * n;
   return r;
+}
+// Keeps the triangle's part where its PbrTri has room for one; the part for
+// a fragment: the kept one where perTri (the material's roughness), else
+// found here.
+KOKKOS_INLINE_FUNCTION void keepIbl(IblRough& kept, const EnvironmentGPU& e, float roughness) {
+  kept = iblRough(e, roughness);
+}
+KOKKOS_INLINE_FUNCTION void keepIbl(NoIblRough&, const EnvironmentGPU&, float) {}
+KOKKOS_INLINE_FUNCTION IblRough iblOf(const IblRough& kept, const EnvironmentGPU& e, float roughness, bool perTri) {
+  return perTri ? kept : iblRough(e, roughness);
+}
+KOKKOS_INLINE_FUNCTION IblRough iblOf(const NoIblRough&, const EnvironmentGPU& e, float roughness, bool) {
+  return iblRough(e, roughness);
 }
 
 // Prefiltered radiance along direction r at perceptual roughness (getSpecularSample).

@@ -173,7 +173,7 @@ RAST_GPU_INLINE PbrTri Shade::pbrTri(const TriFrag& f) const {
   // of its textures sample another set or transform (uv1Slots).
   t.on1 = hasUV1 ? uint32_t(m.flags) >> kMaterialUv1Shift : 0u;
   t.face = cross(f.pos[1] - f.pos[0], f.pos[2] - f.pos[0]);
-  if (!kOnDevice && p.useEnv) t.ibl = iblRough(p.env, clamp01(m.roughness));
+  if (!kOnDevice && p.useEnv) keepIbl(t.ibl, p.env, clamp01(m.roughness));
   return t;
 }
 
@@ -326,14 +326,14 @@ RAST_GPU_INLINE float4 Shade::shadePbrWith(const TriFrag& f, const PbrTri& t, in
     bool coated = false;
     if constexpr (kCoat) {
       if (coat) {  // the coat's prefiltered radiance at its roughness, mixed in before the occlusion
-        const float3 base = iblLight(p.env, N, V, s.base, s.metallic, perTri ? t.ibl : iblRough(p.env, s.roughness));
+        const float3 base = iblLight(p.env, N, V, s.base, s.metallic, iblOf(t.ibl, p.env, s.roughness, perTri));
         const float3 ibl = pbr::mix(base, iblSpecular(p.env, cl.n, V, cl.roughness), cl.weight);
         color = color + ibl * (1.0f + (ao - 1.0f));
         coated = true;
       }
     }
     if (!coated)
-      color = color + iblShade(p.env, N, V, s.base, s.metallic, perTri ? t.ibl : iblRough(p.env, s.roughness), ao);
+      color = color + iblShade(p.env, N, V, s.base, s.metallic, iblOf(t.ibl, p.env, s.roughness, perTri), ao);
   }
   else if (!anyPunctual)
     color = color + s.base * (p.ambient * (1.0f - s.metallic) * ao);

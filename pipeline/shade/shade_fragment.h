@@ -80,8 +80,10 @@ struct PbrTri {
   // depends on the material's roughness alone (the specular levels and the
   // split-sum rows, ibl_shading.h), used where no texture varies it. A GPU
   // finds it per fragment (kept out of the registers this struct holds
-  // across a thread's pixels).
-  IblRough ibl;
+  // across a thread's pixels), so its PbrTri has none: 36 bytes less in each
+  // team resolve's scratch entry (blending::PeelTeam), which lets a block's
+  // list of 64 glTF-shaded triangles fit a CUDA block's scratch.
+  std::conditional_t<kOnDevice, NoIblRough, IblRough> ibl;
 };
 
 // What the glTF shading of a frame uses, fixed when its kernel is compiled
