@@ -129,11 +129,11 @@ constexpr unsigned kBlendResolveLaunchBounds[2] = {256, 2};
 // it: shorter lists would take the larger scratch). Before, 44 KiB and
 // {64, 5} for every frame made 64 layers 3x faster and 8 layers 1.4x slower.
 // The larger scratch holds a block's list of 64 triangles (64 full-screen
-// layers off their diagonals): 70 lit entries (640 bytes a GPU, with the
-// list's two indices) in 44 KiB at five teams a multiprocessor; the glTF
-// shading's (720 bytes) take 47 KiB, 66 of them, at four (five do not fit
-// a Hopper multiprocessor's 228 KiB; Kokkos adds 528 bytes a team, and 48
-// KiB is a CUDA block's most without opting in).
+// layers off their diagonals): under the lit shading 70 entries of 640
+// bytes a GPU (PeelTeam::Entry and the list's two indices) in 44 KiB at five
+// teams a multiprocessor; under the glTF shading 66 of 728 bytes in 47 KiB at
+// four (five do not fit a Hopper multiprocessor's 228 KiB; Kokkos adds 528
+// bytes a team, and 48 KiB is a CUDA block's most without opting in).
 constexpr unsigned kBlendTeamLaunchBounds[2] = {64, 12};
 constexpr size_t kBlendTeamScratchBytes = 16 * 1024;
 constexpr unsigned kBlendTeamDeepLaunchBounds[2] = {64, 5};
