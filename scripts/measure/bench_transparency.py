@@ -7,7 +7,11 @@ against a supersampled exact reference (`--reference --reference-grid G`),
 both read from `-o F.pfm` (the linear film). The opaque frame (the same scene
 with n=0: the opaque backdrop alone) is timed too, for the cost ratio. One CSV row per (scene, method):
 
-    scene, method, ms, opaque_ms, rmse_vs_exact, max_vs_exact, rmse_vs_reference, size, backend, shading
+    scene, method, ms, opaque_ms, rmse_vs_exact, max_vs_exact, rmse_vs_reference, size, backend, shading, layers
+
+`--sweep` takes the layer counts 1 to 256 instead (powers of two), of one
+alpha (0.1) and of mixed alphas and hues: how each method's cost and error
+grow with depth (chart: scripts/plot/plot_transparency_layers.py).
 
 `--shading S` draws every frame with that shading (the built-in scenes'
 default is Lambert's headlight, which lights their KHR_materials_unlit layers;
@@ -33,6 +37,10 @@ SCENES = [
     ("strong front x8", "builtin:layers?n=8&mixed=1&near_alpha=0.95"),
     ("equal alpha x64", "builtin:layers?n=64&alpha=0.1"),
 ]
+# --sweep: the full-frame layers of one alpha and of mixed ones, 1 to 256 deep.
+SWEEP = [(f"{kind} x{n}", f"builtin:layers?n={n}&{query}")
+         for kind, query in [("equal alpha", "alpha=0.1"), ("mixed", "mixed=1")]
+         for n in [1, 2, 4, 8, 16, 32, 64, 128, 256]]
 METHODS = ["exact", "kbuffer", "weighted", "sorted"]
 
 
@@ -75,10 +83,12 @@ def main():
     ap.add_argument("--frames", default="20")
     ap.add_argument("--reference-grid", default="4", help="samples per pixel side of the exact reference (16: the issue's)")
     ap.add_argument("--scenes", default="", help="comma-separated indices into the scene list (default: all)")
+    ap.add_argument("--sweep", action="store_true", help="the layer counts 1 to 256 instead of the stress scenes")
     ap.add_argument("--shading", default="", help="rast's --shading for every frame (default: the scenes' own, Lambert)")
     a = ap.parse_args()
     tmp = tempfile.mkdtemp(prefix="rast_transparency_")
-    scenes = [SCENES[int(i)] for i in a.scenes.split(",")] if a.scenes else SCENES
+    table = SWEEP if a.sweep else SCENES
+    scenes = [table[int(i)] for i in a.scenes.split(",")] if a.scenes else table
     rows = []
     shading = ["--shading", a.shading] if a.shading else []
     for label, scene in scenes:
@@ -87,6 +97,7 @@ def main():
         run([a.rast, "render"] + common + ["--transparency", "exact", "--reference", "--reference-grid",
                                            a.reference_grid, "-o", ref])
         reference = read_pfm(ref)
+        layers = next(int(kv[2:]) for kv in scene.split("?")[1].split("&") if kv.startswith("n="))
         exact = None
         opaque_scene = scene.split("?")[0] + "?n=0&" + "&".join(
             kv for kv in scene.split("?")[1].split("&") if not kv.startswith("n="))
@@ -103,7 +114,7 @@ def main():
             rows.append({"scene": label, "method": m, "ms": b.get("total_median_ms"),
                          "opaque_ms": o.get("total_median_ms"), "rmse_vs_exact": ex_rmse, "max_vs_exact": ex_max,
                          "rmse_vs_reference": ref_rmse, "size": a.size, "backend": b.get("backend"),
-                         "shading": a.shading or "lambert"})
+                         "shading": a.shading or "lambert", "layers": layers})
             print(label, m, rows[-1]["ms"], f"{ex_rmse:.5f}", f"{ref_rmse:.5f}", flush=True)
     with open(a.out, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
