@@ -150,12 +150,19 @@ struct PeelTeam {
     const bool listed = P.totals(kBlendListed) <= P.tileCapacity;  // else the frame is drawn again
     const uint32_t n = listed ? P.tileCount(block) : 0u, begin = listed ? P.listBegin(block, n) : 0u, end = begin + n;
     const int nThreads = m.team_size(), me = m.team_rank();
-    if (n > entries) {  // the plain resolve's walk of the global list
+    if (n > entries) {  // longer than the scratch's entries
       typename Peel<kFam, kFeat>::PeelCache cache;
+      held = ~0u;  // longOrder overwrites the entries
+      const bool inOrder = !P.weighted && n <= longEntries() && longOrder(m, sc, begin, n);
       for (int p = me; p < kPixels; p += nThreads) {
         const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
-        if (X < P.width && Y < P.height) P.row(X, Y, 1, begin, end, cache, frags);
+        if (X >= P.width || Y >= P.height) continue;
+        if (inOrder)
+          pixelLongInOrder(sc, n, X, Y, cache, frags);
+        else
+          P.row(X, Y, 1, begin, end, cache, frags);  // the plain resolve's walk of the global list
       }
+      m.team_barrier();  // the scratch is the next block's
       return;
     }
     Entry* ent = sc.ent;
@@ -227,6 +234,81 @@ struct PeelTeam {
       }
     }
     m.team_barrier();  // the scratch is the next block's
+  }
+
+  // A list longer than the entries, in its order where that holds at every
+  // sample (exact: the whole depth ranges do not overlap; sorted: always):
+  // the entries' room holds each triangle's raster index, key and range
+  // (kLong bytes), and each pixel walks the list once in that order,
+  // setting its triangles up from global memory as the plain walk does,
+  // instead of peeling kPeelK fragments a pass over the whole list (a cost
+  // that grows with the square of the depth). The same fragments in the
+  // same order: the plain form's bits.
+  static constexpr size_t kLong = sizeof(uint64_t) + 2 * sizeof(float) + 2 * sizeof(uint32_t);
+  KOKKOS_INLINE_FUNCTION uint32_t longEntries() const { return uint32_t(size_t(entries) * sizeof(Entry) / kLong); }
+  struct Long {
+    uint64_t* key;
+    float *lo, *hi;
+    uint32_t *idx, *ord;
+  };
+  KOKKOS_INLINE_FUNCTION Long longOf(const Scratch& sc) const {
+    const uint32_t cap = longEntries();
+    char* base = reinterpret_cast<char*>(sc.ent);  // 16-byte aligned; the arrays in falling alignment
+    Long l;
+    l.key = reinterpret_cast<uint64_t*>(base);
+    l.lo = reinterpret_cast<float*>(l.key + cap);
+    l.hi = l.lo + cap;
+    l.idx = reinterpret_cast<uint32_t*>(l.hi + cap);
+    l.ord = l.idx + cap;
+    return l;
+  }
+  RAST_GPU_INLINE bool longOrder(const TeamMember& m, const Scratch& sc, const uint32_t begin, const uint32_t n) const {
+    const Peel<kFam, kFeat>& P = peel;
+    const Long l = longOf(sc);
+    const int nThreads = m.team_size(), me = m.team_rank();
+    for (uint32_t j = uint32_t(me); j < n; j += uint32_t(nThreads)) {
+      const uint32_t i = P.tileTris(begin + j);
+      const DepthBounds z = depthBounds(P.fs.sc.tris(i));
+      l.idx[j] = i;
+      l.lo[j] = z.lo;
+      l.hi[j] = z.hi;
+      l.key[j] = P.sorted ? P.sortedKeyOf(i) : uint64_t(orderBits(z.lo)) << 32 | j;  // unique either way
+    }
+    if (me == 0) *sc.ordered = 1;
+    m.team_barrier();
+    for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
+      uint32_t d = 0;
+      for (uint32_t k = 0; k < n; ++k) d += l.key[k] < l.key[r] ? 1u : 0u;
+      l.ord[d] = r;
+    }
+    m.team_barrier();
+    if (!P.sorted)
+      for (uint32_t t = uint32_t(me); t + 1 < n; t += uint32_t(nThreads))
+        if (!(l.hi[l.ord[t]] < l.lo[l.ord[t + 1]])) *sc.ordered = 0;  // ranges overlap (or NaN)
+    m.team_barrier();
+    return *sc.ordered != 0;
+  }
+  RAST_GPU_INLINE void pixelLongInOrder(const Scratch& sc, const uint32_t n, const int32_t X, const int32_t Y,
+                                        typename Peel<kFam, kFeat>::PeelCache& cache, uint64_t& frags) const {
+    const Peel<kFam, kFeat>& P = peel;
+    const Long l = longOf(sc);
+    eachSample(X, Y, [&](const int s, const uint32_t opq, float3& acc, float& T) {
+      const int32_t ox = P.fs.sp.ox[s], oy = P.fs.sp.oy[s];
+      uint32_t cnt = 0;
+      for (uint32_t t = 0; t < n; ++t) {
+        const uint32_t i = l.idx[l.ord[t]];
+        const RasterTri& tri = P.fs.sc.tris(i);
+        const Edges e(tri);
+        const int64_t s0 = e.sample(0, X, Y, ox, oy), s1 = e.sample(1, X, Y, ox, oy), s2 = e.sample(2, X, Y, ox, oy);
+        if (!e.inside(s0, s1, s2)) continue;
+        if (!(floatBits(DepthTerms(tri).at(s0, s2)) < opq)) continue;  // LESS against the opaque depth
+        ++cnt;
+        if (!(T > 0.0f)) continue;  // opaque already: counted, not shaded
+        const float4 c = cache.template at<kFeat>(P.fs, i, X, Y, s);
+        if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
+      }
+      count(cnt, frags);
+    });
   }
 
   // Each sample of pixel (X, Y): op(s, sample's opaque depth bits, acc, T)

@@ -338,9 +338,11 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   // that form here. Separate lit layers, submitted back to front and front to
   // back (exact: the blocks whose triangles' depth ranges do not overlap are
   // walked once in that order; unlit ones too, which the glTF shading
-  // composites with their one colour), intersecting ones (12: peeled keys from the
-  // list in scratch; 40: the lists along the quads' diagonals outgrow it and
-  // take the plain walk), coplanar ones (ordered by raster index), a
+  // composites with their one colour), 40 separate lit layers (lists longer
+  // than the entries a frame's first scratch holds: ordered by their ranges
+  // in its room and walked once from global memory), intersecting ones (12:
+  // peeled keys from the list in scratch; 40: the lists outgrow it, their
+  // ranges overlap, and they take the plain walk), coplanar ones (ordered by raster index), a
   // vertex-coloured BLEND quad; one and four samples; exact, sorted and
   // weighted (its sums in raster-index order: the list sorted, or the
   // entries in scratch); the statistics too.
@@ -348,7 +350,8 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
                        "builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&order=front",
                        "builtin:layers?n=8&mixed=1&occluder=1", "builtin:layers?n=8&mixed=1&cross=1",
                        "builtin:layers?n=8&mixed=1&tex=1",
-                       "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
+                       "builtin:layers?n=40&mixed=1&unlit=0", "builtin:layers?n=12&mixed=1&cross=1&unlit=0",
+                       "builtin:layers?n=40&mixed=1&cross=1",
                        "builtin:layers?n=6&mixed=1&equal=1", "builtin:cutout?blend=1"},
                       small());
   // Under the glTF shading the unlit layers' blocks are composited once
@@ -477,7 +480,8 @@ TEST_CASE("BLEND: a CPU's walk of a block's triangles in order gives its peeled 
   sameUnderHook<Rows>({"builtin:layers?n=8&mixed=1&unlit=0", "builtin:layers?n=8&mixed=1&unlit=0&order=front",
                        "builtin:layers?n=8&mixed=1", "builtin:layers?n=8&mixed=1&order=front",
                        "builtin:layers?n=8&mixed=1&occluder=1",
-                       "builtin:layers?n=12&mixed=1&cross=1&unlit=0", "builtin:layers?n=40&mixed=1&cross=1",
+                       "builtin:layers?n=40&mixed=1&unlit=0", "builtin:layers?n=12&mixed=1&cross=1&unlit=0",
+                       "builtin:layers?n=40&mixed=1&cross=1",
                        "builtin:layers?n=6&mixed=1&equal=1", "builtin:layers?n=64&alpha=0.1",
                        "builtin:layers?n=4&alpha=1&unlit=0", "builtin:cutout?blend=1"},
                       small(93, 53));
