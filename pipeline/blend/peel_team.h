@@ -32,7 +32,8 @@ namespace blending {
 // are composited in the same order as by the plain form: the same bits.
 // weighted needs no order: each pixel sums the entries in raster-index order,
 // as the plain form sums its sorted list. A list longer than the scratch
-// holds is resolved the plain way.
+// holds is ranked in the entries' room and walked once where its order
+// holds at every sample (longOrder), else resolved the plain way.
 template <int kFam, int kFeat>
 struct PeelTeam {
   struct Entry {
