@@ -121,26 +121,34 @@ struct PeelTeam {
     return r;
   }
 
-  // Ranks the entries by their keys (`order`) into sc.ord; whether that
-  // order holds at every sample: sorted's always, exact's where each range
-  // ends before the next begins (NaN ranges order nothing). Every thread
-  // returns the same.
-  RAST_GPU_INLINE bool orderEntries(const TeamMember& m, const Scratch& sc, const uint32_t n) const {
-    const Entry* ent = sc.ent;
-    uint32_t* ord = sc.ord;
+  // Ranks n keys, key(k), into ord; whether that order holds at every
+  // sample: sorted's always, exact's where each range [lo(k), hi(k)] ends
+  // before the next begins (NaN ranges order nothing). Every thread returns
+  // the same. The entries' keys and ranges (orderEntries) or a long list's
+  // (longOrder).
+  template <class Key, class Lo, class Hi>
+  RAST_GPU_INLINE bool rankKeys(const TeamMember& m, const Scratch& sc, const uint32_t n, uint32_t* ord, Key&& key,
+                                Lo&& lo, Hi&& hi) const {
     const int nThreads = m.team_size(), me = m.team_rank();
     for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
       uint32_t d = 0;
-      for (uint32_t k = 0; k < n; ++k) d += ent[k].order < ent[r].order ? 1u : 0u;
+      for (uint32_t k = 0; k < n; ++k) d += key(k) < key(r) ? 1u : 0u;
       ord[d] = r;
     }
     if (me == 0) *sc.ordered = 1;  // its last reader passed the barrier before this call
     m.team_barrier();
     if (!peel.sorted)
       for (uint32_t t = uint32_t(me); t + 1 < n; t += uint32_t(nThreads))
-        if (!(ent[ord[t]].hi < ent[ord[t + 1]].lo)) *sc.ordered = 0;  // ranges overlap (or NaN)
+        if (!(hi(ord[t]) < lo(ord[t + 1]))) *sc.ordered = 0;  // ranges overlap (or NaN)
     m.team_barrier();
     return *sc.ordered != 0;
+  }
+  // The entries ranked by their keys (`order`) into sc.ord.
+  RAST_GPU_INLINE bool orderEntries(const TeamMember& m, const Scratch& sc, const uint32_t n) const {
+    const Entry* ent = sc.ent;
+    return rankKeys(
+        m, sc, n, sc.ord, [&](const uint32_t k) { return ent[k].order; }, [&](const uint32_t k) { return ent[k].lo; },
+        [&](const uint32_t k) { return ent[k].hi; });
   }
 
   RAST_GPU_INLINE void resolveBlock(const TeamMember& m, const Scratch& sc, const int64_t block, uint32_t& held,
@@ -153,8 +161,11 @@ struct PeelTeam {
     const int nThreads = m.team_size(), me = m.team_rank();
     if (n > entries) {  // longer than the scratch's entries
       typename Peel<kFam, kFeat>::PeelCache cache;
-      held = ~0u;  // longOrder overwrites the entries
-      const bool inOrder = !P.weighted && n <= longEntries() && longOrder(m, sc, begin, n);
+      // exact and sorted rank it in the entries' room; weighted sums the
+      // list as it is (raster-index order), leaving the entries alone.
+      const bool ranked = !P.weighted && n <= longEntries();
+      if (ranked) held = ~0u;  // longOrder overwrites the entries
+      const bool inOrder = ranked && longOrder(m, sc, begin, n);
       for (int p = me; p < kPixels; p += nThreads) {
         const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
         if (X >= P.width || Y >= P.height) continue;
@@ -275,19 +286,10 @@ struct PeelTeam {
       l.hi[j] = z.hi;
       l.key[j] = P.sorted ? P.sortedKeyOf(i) : uint64_t(orderBits(z.lo)) << 32 | j;  // unique either way
     }
-    if (me == 0) *sc.ordered = 1;
     m.team_barrier();
-    for (uint32_t r = uint32_t(me); r < n; r += uint32_t(nThreads)) {
-      uint32_t d = 0;
-      for (uint32_t k = 0; k < n; ++k) d += l.key[k] < l.key[r] ? 1u : 0u;
-      l.ord[d] = r;
-    }
-    m.team_barrier();
-    if (!P.sorted)
-      for (uint32_t t = uint32_t(me); t + 1 < n; t += uint32_t(nThreads))
-        if (!(l.hi[l.ord[t]] < l.lo[l.ord[t + 1]])) *sc.ordered = 0;  // ranges overlap (or NaN)
-    m.team_barrier();
-    return *sc.ordered != 0;
+    return rankKeys(
+        m, sc, n, l.ord, [&](const uint32_t k) { return l.key[k]; }, [&](const uint32_t k) { return l.lo[k]; },
+        [&](const uint32_t k) { return l.hi[k]; });
   }
   RAST_GPU_INLINE void pixelLongInOrder(const Scratch& sc, const uint32_t n, const int32_t X, const int32_t Y,
                                         typename Peel<kFam, kFeat>::PeelCache& cache, uint64_t& frags) const {
