@@ -335,19 +335,19 @@ struct PeelLaunch {
   // from these keys' depth (plan.shadeComposite); else the resolve.
   DView<uint64_t> keys;
   template <unsigned kThreads, unsigned kTeams, class Team>
-  static void launchTeams(const Team& team, const bool walkedOnly) {
+  static void launchTeams(const char* name, const Team& team, const bool strided) {
     using Policy = Kokkos::TeamPolicy<Exec, Kokkos::LaunchBounds<kThreads, kTeams>>;
     const int teamSize = kOnDevice ? Team::kPixels : 1;
     // Where the team walks only the listed blocks (their number known on
-    // the device alone; often none), a GPU launches the teams its
-    // multiprocessors hold at once, each striding through the list: the
-    // persistent threads' count started three waves of teams that found
-    // nothing to do.
-    const int64_t most = kOnDevice && walkedOnly ? int64_t(persistentThreads() / kThreadsPerMultiprocessor) * kTeams
-                                                 : int64_t(persistentThreads() / teamSize);
+    // the device alone; often none), or the long lists' kernel looks for its
+    // few in every block, a GPU launches the teams its multiprocessors hold
+    // at once, each striding through the blocks: the persistent threads'
+    // count started three waves of teams that found nothing to do.
+    const int64_t most = kOnDevice && strided ? int64_t(persistentThreads() / kThreadsPerMultiprocessor) * kTeams
+                                              : int64_t(persistentThreads() / teamSize);
     const int64_t teams = std::min<int64_t>(team.blocks, std::max<int64_t>(1, most));
     Kokkos::parallel_for(
-        "rast::blend::resolve",
+        name,
         lightweight(Policy(int(teams), teamSize).set_scratch_size(0, Kokkos::PerTeam(Team::scratchFor(team.entries)))),
         team);
   }
@@ -395,14 +395,25 @@ struct PeelLaunch {
       }
       if (weighted) sortTileLists(f, FragFamily(kFam));  // after the classification, which found the longest list
       const uint32_t entries = Team::entriesFor(bb.longestList);
+      // Where the last frame's longest list outgrew the larger scratch,
+      // exact's lists longer than its entries are the long lists' kernel's,
+      // launched after the team's (the rest of the frame's blocks). sorted's
+      // and weighted's stay in the team's kernel: the long kernel would walk
+      // them the same way, after the rest instead of among it (7-9% slower
+      // frames on the H200 for 64 and 48 coplanar glTF-shaded layers).
+      const bool defer = !sorted && !weighted && Team::defersLong(bb.longestList);
       // The family's larger scratch under launch bounds that let its teams
       // fit a multiprocessor (Kokkos refuses a scratch that does not). Host
       // backends ignore launch bounds: one instance of the team kernel.
       constexpr bool kWalked = uniformBlocksFor<kFam, kFeat>();
+      const Team team{peel, blocks, entries, defer ? 1 : 0};
       if (!kOnDevice || entries <= Team::entriesIn(kBlendTeamScratchBytes))
-        launchTeams<kBlendTeamLaunchBounds[0], kBlendTeamLaunchBounds[1]>(Team{peel, blocks, entries}, kWalked);
+        launchTeams<kBlendTeamLaunchBounds[0], kBlendTeamLaunchBounds[1]>("rast::blend::resolve", team, kWalked);
       else if constexpr (kOnDevice)
-        launchTeams<Team::kDeepThreads, Team::kDeepTeams>(Team{peel, blocks, entries}, kWalked);
+        launchTeams<Team::kDeepThreads, Team::kDeepTeams>("rast::blend::resolve", team, kWalked);
+      if (defer)
+        launchTeams<Team::kDeepThreads, Team::kDeepTeams>("rast::blend::resolve_long",
+                                                          PeelTeam<kFam, kFeat, true>{peel, blocks, entries, 0}, true);
     } else {
       using Policy =
           Kokkos::RangePolicy<Exec, Kokkos::LaunchBounds<kBlendResolveLaunchBounds[0], kBlendResolveLaunchBounds[1]>>;
@@ -503,7 +514,8 @@ void uniformBlocksBeforeShading(const DeviceScene& s, FrameBuffers& f, const Sha
 uint64_t blendLaunchKey(const FrameBuffers& f) {
   using namespace blending;
   const uint64_t l = f.blend.longestList;
-  return (uint64_t(sortsLongLists(f)) << 63) ^ (uint64_t(listStrideFor(f)) << 48) ^
+  return (uint64_t(sortsLongLists(f)) << 63) ^ (uint64_t(PeelTeam<kFragLit, 0>::defersLong(l)) << 62) ^
+         (uint64_t(PeelTeam<kFragPbr, 0>::defersLong(l)) << 61) ^ (uint64_t(listStrideFor(f)) << 48) ^
          (uint64_t(PeelTeam<kFragLit, 0>::entriesFor(l)) << 32 | PeelTeam<kFragPbr, 0>::entriesFor(l));
 }
 

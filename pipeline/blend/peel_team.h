@@ -7,6 +7,7 @@
 #include "backends/team_scratch.h"
 #include "pipeline/blend/peel.h"
 #include "pipeline/blend/uniform_blocks.h"
+#include "pipeline/data/test_hooks.h"
 
 namespace rast {
 namespace blending {
@@ -34,7 +35,11 @@ namespace blending {
 // as the plain form sums its sorted list. A list longer than the scratch
 // holds is ranked in the entries' room and walked once where its order
 // holds at every sample (longOrder), else resolved the plain way.
-template <int kFam, int kFeat>
+// Where the last frame had lists longer than the larger scratch's entries,
+// those lists are left to a kernel of their own (kLongLists, below), which can
+// also merge overlapping ones in one walk: its code and registers stay out
+// of the short lists' kernel, the 8 layers' hot path.
+template <int kFam, int kFeat, bool kLongLists = false>
 struct PeelTeam {
   struct Entry {
     AlphaTri a;
@@ -60,22 +65,32 @@ struct PeelTeam {
       kFam == kFragPbr ? kBlendTeamDeepPbrLaunchBounds[1] : kBlendTeamDeepLaunchBounds[1];
   static_assert(!kOnDevice || entriesIn(kDeepBytes) >= 64,
                 "a block's list under 64 full-screen layers (off their diagonals) fits the larger scratch");
+  // The larger scratch's entries (on a host backend TestHooks::teamDeepEntries
+  // may lower them, so that small frames exercise the long lists' kernel).
+  static uint32_t deepEntries() {
+    const uint32_t hi = entriesIn(kDeepBytes), hook = testHooks().teamDeepEntries;
+    return !kOnDevice && hook && hook < hi ? (hook > entriesIn(kBlendTeamScratchBytes) ? hook : hi) : hi;
+  }
   // The entries of a frame whose last frame's longest list was `longest`.
   static uint32_t entriesFor(uint64_t longest) {
-    const uint32_t lo = entriesIn(kBlendTeamScratchBytes), hi = entriesIn(kDeepBytes);
+    const uint32_t lo = entriesIn(kBlendTeamScratchBytes), hi = deepEntries();
     return longest <= lo ? lo : (longest < hi ? uint32_t(longest) : hi);
   }
+  // Whether such a frame leaves its lists longer than the entries to the
+  // long lists' kernel (PeelTeam<kFam, kFeat, true>, launched after the team's).
+  static bool defersLong(uint64_t longest) { return longest > deepEntries(); }
 
   Peel<kFam, kFeat> peel;
   int64_t blocks;
-  uint32_t entries;  // entries the scratch holds (entriesFor)
+  uint32_t entries;     // entries the scratch holds (entriesFor)
+  int32_t defer = 0;    // the short lists' kernel: lists longer than the entries are the long kernel's
 
   // The team's scratch: the entries, the raw and ordered lists, flags and
   // the team's fragment count.
   struct Scratch {
     Entry* ent;
     uint32_t *raw, *ord;
-    int32_t *ordered, *same, *global;
+    int32_t *ordered, *same, *global, *few;
     uint64_t* frags;
   };
 
@@ -97,12 +112,17 @@ struct PeelTeam {
     sc.ordered = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
     sc.same = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
     sc.global = inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t))));
+    sc.few = kLongLists ? inTeamScratch(static_cast<int32_t*>(m.team_scratch(0).get_shmem(sizeof(int32_t)))) : nullptr;
     constexpr bool kStrided = uniformBlocksFor<kFam, kFeat>();
+    // The long lists' kernel strides through every block too: its lists
+    // gather along the quads' diagonals, where a run of blocks would leave
+    // most teams idle.
+    constexpr bool kSpread = kStrided || kLongLists;
     const int64_t todo = kStrided ? int64_t(peel.totals(kBlendWalked)) : blocks;
     const int64_t per = (todo + m.league_size() - 1) / m.league_size();
-    const int64_t b0 = kStrided ? m.league_rank() : per * m.league_rank();
-    const int64_t b1 = kStrided ? todo : (b0 + per < todo ? b0 + per : todo);
-    const int64_t step = kStrided ? m.league_size() : 1;
+    const int64_t b0 = kSpread ? m.league_rank() : per * m.league_rank();
+    const int64_t b1 = kSpread ? todo : (b0 + per < todo ? b0 + per : todo);
+    const int64_t step = kSpread ? m.league_size() : 1;
     uint64_t frags = 0;
     uint32_t held = ~0u;  // the length of the list whose entries the scratch holds (~0u: none)
     if (m.team_rank() == 0) *sc.frags = 0;
@@ -160,23 +180,33 @@ struct PeelTeam {
     const uint32_t n = listed ? P.tileCount(block) : 0u, begin = listed ? P.listBegin(block, n) : 0u, end = begin + n;
     const int nThreads = m.team_size(), me = m.team_rank();
     if (n > entries) {  // longer than the scratch's entries
+      if (!kLongLists && defer) return;  // the long lists' kernel's
       typename Peel<kFam, kFeat>::PeelCache cache;
       // exact and sorted rank it in the entries' room; weighted sums the
-      // list as it is (raster-index order), leaving the entries alone.
+      // list as it is (raster-index order), leaving the entries alone. The
+      // long lists' kernel ranks exact's by their ranges over the block
+      // (tighter than the whole ones) and merges them where they overlap
+      // but few at a time (fewOpen).
       const bool ranked = !P.weighted && n <= longEntries();
       if (ranked) held = ~0u;  // longOrder overwrites the entries
-      const bool inOrder = ranked && longOrder(m, sc, begin, n);
+      const bool inOrder = ranked && longOrder<kLongLists>(m, sc, begin, n, x0, y0);
+      bool merged = false;
+      if constexpr (kLongLists) merged = ranked && !inOrder && fewOpen(m, sc, n);
       for (int p = me; p < kPixels; p += nThreads) {
         const int32_t X = x0 + (p & ((1 << kItemShift) - 1)), Y = y0 + (p >> kItemShift);
         if (X >= P.width || Y >= P.height) continue;
         if (inOrder)
           pixelLongInOrder(sc, n, X, Y, cache, frags);
+        else if (kLongLists && merged)
+          pixelLongMerged(sc, n, X, Y, cache, frags);
         else
           P.row(X, Y, 1, begin, end, cache, frags);  // the plain resolve's walk of the global list
       }
+      if (kLongLists && merged && me == 0) Kokkos::atomic_add(&P.totals(kBlendMerged), uint64_t(1));
       m.team_barrier();  // the scratch is the next block's
       return;
     }
+    if constexpr (kLongLists) return;  // the short lists' kernel's
     Entry* ent = sc.ent;
     uint32_t *raw = sc.raw, *ord = sc.ord;
     for (uint32_t j = uint32_t(me); j < n; j += uint32_t(nThreads)) raw[j] = P.tileTris(begin + j);
@@ -249,7 +279,8 @@ struct PeelTeam {
   }
 
   // A list longer than the entries, in its order where that holds at every
-  // sample (exact: the whole depth ranges do not overlap; sorted: always):
+  // sample (exact: the depth ranges do not overlap, the whole ones in the
+  // team's kernel, those over the block in the long lists'; sorted: always):
   // the entries' room holds each triangle's raster index, key and range
   // (kLong bytes), and each pixel walks the list once in that order,
   // setting its triangles up from global memory as the plain walk does,
@@ -274,17 +305,30 @@ struct PeelTeam {
     l.ord = l.idx + cap;
     return l;
   }
-  RAST_GPU_INLINE bool longOrder(const TeamMember& m, const Scratch& sc, const uint32_t begin, const uint32_t n) const {
+  // kOverBlock: exact's ranges over the block at (x0, y0) (blockDepthRange),
+  // else the triangles' whole ranges.
+  template <bool kOverBlock>
+  RAST_GPU_INLINE bool longOrder(const TeamMember& m, const Scratch& sc, const uint32_t begin, const uint32_t n,
+                                 const int32_t x0, const int32_t y0) const {
     const Peel<kFam, kFeat>& P = peel;
     const Long l = longOf(sc);
     const int nThreads = m.team_size(), me = m.team_rank();
+    if (kLongLists && me == 0) *sc.few = 1;  // (fewOpen's; its last reader passed the last block's barrier)
     for (uint32_t j = uint32_t(me); j < n; j += uint32_t(nThreads)) {
       const uint32_t i = P.tileTris(begin + j);
-      const DepthBounds z = depthBounds(P.fs.sc.tris(i));
+      const RasterTri& t = P.fs.sc.tris(i);
+      float lo, hi;
+      if (kOverBlock && !P.sorted) {
+        blockDepthRange(Edges(t), DepthTerms(t), x0, y0, lo, hi);
+      } else {
+        const DepthBounds z = depthBounds(t);
+        lo = z.lo;
+        hi = z.hi;
+      }
       l.idx[j] = i;
-      l.lo[j] = z.lo;
-      l.hi[j] = z.hi;
-      l.key[j] = P.sorted ? P.sortedKeyOf(i) : uint64_t(orderBits(z.lo)) << 32 | j;  // unique either way
+      l.lo[j] = lo;
+      l.hi[j] = hi;
+      l.key[j] = P.sorted ? P.sortedKeyOf(i) : uint64_t(orderBits(lo)) << 32 | j;  // unique either way
     }
     m.team_barrier();
     return rankKeys(
@@ -309,6 +353,69 @@ struct PeelTeam {
         if (!(T > 0.0f)) continue;  // opaque already: counted, not shaded
         const float4 c = cache.template at<kFeat>(P.fs, i, X, Y, s);
         if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
+      }
+      count(cnt, frags);
+    });
+  }
+
+  // exact, a long list ranked by its ranges' starts (longOrder) that overlap:
+  // whether at each range's start at most kPeelK - 1 earlier ranges are still
+  // open (end at or past it), none of them NaN. Then a sample's merged walk
+  // (pixelLongMerged) never holds more than kPeelK keys.
+  RAST_GPU_INLINE bool fewOpen(const TeamMember& m, const Scratch& sc, const uint32_t n) const {
+    const Long l = longOf(sc);
+    const int nThreads = m.team_size(), me = m.team_rank();
+    for (uint32_t t = uint32_t(me); t < n; t += uint32_t(nThreads)) {
+      const float lo = l.lo[l.ord[t]], hi = l.hi[l.ord[t]];
+      uint32_t open = lo == lo && hi == hi ? 1u : uint32_t(kPeelK) + 1u;
+      for (uint32_t u = 0; u < t && open <= uint32_t(kPeelK); ++u) open += l.hi[l.ord[u]] < lo ? 0u : 1u;
+      if (open > uint32_t(kPeelK)) *sc.few = 0;
+    }
+    m.team_barrier();
+    return *sc.few != 0;
+  }
+  // Pixel (X, Y) of such a list: one walk in the ranges' order, each
+  // fragment in front of the opaque depth held (its key, in order, as
+  // Peel::insert keeps them) until the next range starts past its depth;
+  // no later fragment can then come before it, so it is composited. The
+  // keys leave in row()'s order: the same fragments in the same order, the
+  // plain form's bits, for one walk instead of a pass per kPeelK fragments.
+  RAST_GPU_INLINE void pixelLongMerged(const Scratch& sc, const uint32_t n, const int32_t X, const int32_t Y,
+                                       typename Peel<kFam, kFeat>::PeelCache& cache, uint64_t& frags) const {
+    const Peel<kFam, kFeat>& P = peel;
+    const Long l = longOf(sc);
+    eachSample(X, Y, [&](const int s, const uint32_t opq, float3& acc, float& T) {
+      const int32_t ox = P.fs.sp.ox[s], oy = P.fs.sp.oy[s];
+      uint64_t best[kPeelK];
+      for (int k = 0; k < kPeelK; ++k) best[k] = kNoKey;
+      uint32_t cnt = 0, held = 0;
+      // t == n: past the last range, every key left held leaves.
+      for (uint32_t t = 0; t <= n; ++t) {
+        const uint32_t j = t < n ? l.ord[t] : 0u;
+        const uint32_t start = t < n ? floatBits(l.lo[j]) : ~0u;  // lo in [0, 1]: ordered as its bits
+        // The nearest key held leaves: composited while light passes (row()
+        // stops there too), the rest shifted down (compile-time indices).
+        while (held > 0 && uint32_t(best[0] >> 32) < start) {
+          if (T > 0.0f) {
+            const float4 c = cache.template at<kFeat>(P.fs, keyIndex(best[0], false), X, Y, s);
+            if (c.w > 0.0f) over(acc, T, c);  // alpha 0 (or NaN): no fragment
+          }
+          for (int q = 0; q + 1 < kPeelK; ++q) best[q] = best[q + 1];
+          best[kPeelK - 1] = kNoKey;
+          --held;
+        }
+        if (t == n) break;
+        const uint32_t i = l.idx[j];
+        const RasterTri& tri = P.fs.sc.tris(i);
+        const Edges e(tri);
+        const int64_t s0 = e.sample(0, X, Y, ox, oy), s1 = e.sample(1, X, Y, ox, oy), s2 = e.sample(2, X, Y, ox, oy);
+        if (!e.inside(s0, s1, s2)) continue;
+        const float z = DepthTerms(tri).at(s0, s2);
+        if (!(floatBits(z) < opq)) continue;  // LESS against the opaque depth
+        ++cnt;
+        if (!(T > 0.0f)) continue;  // opaque already: counted, not shaded
+        Peel<kFam, kFeat>::insert(best, visKey(z, i), held);  // held < kPeelK (fewOpen)
+        ++held;
       }
       count(cnt, frags);
     });

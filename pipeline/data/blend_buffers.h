@@ -19,7 +19,8 @@ enum BlendTotal : int {
   kBlendListed = 4,   // entries of the tile lists this frame (their need)
   kBlendLongest = 5,  // the longest tile list this frame (the next frame's team scratch)
   kBlendWalked = 6,   // the team form under the glTF shading: the blocks in walkedBlocks
-  kNumBlendTotals = 7
+  kBlendMerged = 7,   // the long lists' kernel: the blocks whose overlapping list it merged in one walk
+  kNumBlendTotals = 8
 };
 
 // The tile lists' blocks: 8x8 pixels (blending::kItemShift).

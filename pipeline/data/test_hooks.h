@@ -40,6 +40,10 @@ struct TestHooks {
   // host backend too (pipeline/blend/peel_team.h, PeelTeam: a block's list set up once
   // in team scratch), so that its bits are checked against the host's own.
   bool teamResolve = false;
+  // > 0: under teamResolve, the larger team scratch's entries on a host
+  // backend (PeelTeam::deepEntries; above the smaller scratch's), so that
+  // small frames' lists outgrow it and the long lists' kernel resolves them.
+  uint32_t teamDeepEntries = 0;
   // true: a CPU's exact, sorted and weighted resolve peels every block's rows
   // (pipeline/blend/peel.h), never walking a block's triangles in order
   // (peel_block.h), so that the two are checked against each other. GPUs

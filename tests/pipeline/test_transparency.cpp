@@ -10,8 +10,10 @@
 
 #include <cmath>
 #include <initializer_list>
+#include <string>
 
 #include "pipeline/blend/blend.h"
+#include "pipeline/blend/peel_team.h"
 #include "pipeline/blend/uniform_blocks.h"
 #include "pipeline/frame/renderer.h"
 #include "scenes/procedural.h"
@@ -407,6 +409,63 @@ TEST_CASE("BLEND: the resolve's team form gives the plain form's bits", "[transp
   r.render(defaultCamera(s), rs);
   CHECK(r.frameBuffers().blend.longestList >= 60);
   CHECK(sameBits(first, r.filmBottomUp()));
+}
+
+TEST_CASE("BLEND: the long lists' kernel gives the plain form's bits", "[transparency][blend]") {
+  // Where the last frame's longest list outgrew the team's larger scratch
+  // (here lowered to 24 entries, TestHooks::teamDeepEntries), the lists
+  // longer than its entries are resolved by a kernel of their own
+  // (PeelTeam<…, true>): exact's ranked by their depth ranges over the
+  // block, walked once where those keep one order, merged in one walk where
+  // they overlap but few at a time (a quad's two halves, whose ranges
+  // coincide: the blocks on the quads' diagonals), else peeled from the
+  // list (intersecting layers where more ranges are open at once). sorted's
+  // and weighted's stay in the team's kernel. The second frame's film and
+  // statistics against the plain form's: separate lit layers back to front
+  // and front to back (40: lists of 40, and of 80 on the diagonals), 64
+  // unlit ones, 40 intersecting ones; Lambert and the glTF shading; one and
+  // four samples. A walk that let a later fragment pass a nearer one held,
+  // or lost one, changes the bits.
+  struct Deep {
+    Deep() { testHooks().teamDeepEntries = 24; }
+    ~Deep() { testHooks().teamDeepEntries = 0; }
+  };
+  for (const char* name : {"builtin:layers?n=40&mixed=1&unlit=0", "builtin:layers?n=40&mixed=1&unlit=0&order=front",
+                           "builtin:layers?n=64&alpha=0.1", "builtin:layers?n=40&mixed=1&cross=1"}) {
+    const Scene s = builtinScene(name);
+    for (ShadingMode mode : {ShadingMode::Lambert, ShadingMode::Pbr})
+      for (int msaa : {1, 4})
+        for (Transparency t : {Transparency::Exact, Transparency::Sorted, Transparency::Weighted}) {
+          INFO(name << " " << toString(mode) << " msaa " << msaa << " method " << int(t));
+          RenderSettings rs = small();
+          rs.shading = mode;
+          rs.msaa = msaa;
+          rs.transparency = t;
+          FrameStats plainStats, longStats;
+          const std::vector<rast::float4> plain = film(s, rs, &plainStats);
+          TeamForm g;
+          Deep d;
+          Renderer r(s);
+          r.render(defaultCamera(s), rs);
+          longStats = r.render(defaultCamera(s), rs);
+          // Whether the long lists' kernel ran (on a GPU, which ignores the
+          // hook, where the lists outgrew the real larger scratch).
+          const uint64_t longest = r.frameBuffers().blend.longestList;
+          const bool ran = mode == ShadingMode::Pbr ? blending::PeelTeam<blending::kFragPbr, 0>::defersLong(longest)
+                                                    : blending::PeelTeam<blending::kFragLit, 0>::defersLong(longest);
+          if (!kOnDevice) REQUIRE(ran);
+          CHECK(sameBits(plain, r.filmBottomUp()));
+          CHECK(plainStats.blendFragments == longStats.blendFragments);
+          CHECK(plainStats.blendMaxDepth == longStats.blendMaxDepth);
+          const auto totals = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), r.frameBuffers().blend.totals);
+          const std::string n(name);
+          const bool separate = n.find("unlit=0") != std::string::npos || n.find("n=64") != std::string::npos;
+          if (t != Transparency::Exact || !ran)
+            CHECK(totals(kBlendMerged) == 0);  // the team's kernel
+          else if (separate)
+            CHECK(totals(kBlendMerged) > 0);  // the diagonals' blocks
+        }
+  }
 }
 
 TEST_CASE("BLEND: the glTF shading's kernel writes the opaque depth that the resolve reads", "[transparency][blend]") {
