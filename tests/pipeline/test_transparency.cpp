@@ -448,8 +448,9 @@ TEST_CASE("BLEND: the long lists' kernel gives the plain form's bits", "[transpa
           Renderer r(s);
           r.render(defaultCamera(s), rs);
           longStats = r.render(defaultCamera(s), rs);
-          // Whether the long lists' kernel ran (on a GPU, which ignores the
-          // hook, where the lists outgrew the real larger scratch).
+          // Whether the frame left its long lists to the long lists' kernel
+          // (exact's only; on a GPU, which ignores the hook, where the lists
+          // outgrew the real larger scratch).
           const uint64_t longest = r.frameBuffers().blend.longestList;
           const bool ran = mode == ShadingMode::Pbr ? blending::PeelTeam<blending::kFragPbr, 0>::defersLong(longest)
                                                     : blending::PeelTeam<blending::kFragLit, 0>::defersLong(longest);
